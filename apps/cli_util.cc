@@ -1,0 +1,44 @@
+#include "apps/cli_util.h"
+
+#include "framework/atomic_file.h"
+#include "framework/error.h"
+
+namespace kincal::app {
+
+std::vector<std::string> SplitComma(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    out.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+Eigen::VectorXd ParseList(const std::string& text, const Unit& unit, const std::string& what) {
+  const std::vector<std::string> items = SplitComma(text);
+  Eigen::VectorXd out(static_cast<Eigen::Index>(items.size()));
+  for (size_t i = 0; i < items.size(); ++i) {
+    double v = 0.0;
+    if (!ParseDouble(items[i], &v)) {
+      ThrowInputError(what + ": expected a comma-separated list of numbers, item " + std::to_string(i + 1) + " is '" +
+                      items[i] + "'");
+    }
+    out[static_cast<Eigen::Index>(i)] = v * unit.to_si;
+  }
+  return out;
+}
+
+YAML::Node LoadYamlFile(const std::string& path) {
+  if (path.empty()) return YAML::Node();
+  const std::string text = ReadFileToString(path);
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    ThrowInputError(path, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
+  }
+}
+
+}  // namespace kincal::app

@@ -1,0 +1,23 @@
+#pragma once
+// The `none` compensator: the controller's nominal solution, commanded unchanged. The baseline every
+// report compares against. Its q_actual is where the real arm goes when the seed is commanded.
+#include "framework/compensator.h"
+
+namespace kincal {
+
+class NoneCompensator final : public Compensator {
+ public:
+  struct Options {
+    bool IsValid(std::string* /*why*/) const { return true; }
+    static Options FromYaml(const YAML::Node& node);
+  };
+  explicit NoneCompensator(const Options& options = Options()) : options_(options) {}
+  std::string name() const override { return "none"; }
+
+ private:
+  void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
+                    CompensationResult* result) const override;
+  Options options_;
+};
+
+}  // namespace kincal

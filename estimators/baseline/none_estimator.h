@@ -1,0 +1,23 @@
+#pragma once
+// The `none` estimator: no calibration. It returns its input robot unchanged and is the baseline
+// ("before") every study compares against.
+#include "framework/estimator.h"
+
+namespace kincal {
+
+class NoneEstimator final : public Estimator {
+ public:
+  struct Options {
+    bool IsValid(std::string* /*why*/) const { return true; }
+    static Options FromYaml(const YAML::Node& node);
+  };
+  explicit NoneEstimator(const Options& options = Options()) : options_(options) {}
+  std::string name() const override { return "none"; }
+
+ private:
+  void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                  EstimationReport* report) const override;
+  Options options_;
+};
+
+}  // namespace kincal

@@ -1,0 +1,32 @@
+// The registry of every estimator kincal knows. Adding an estimator: one Register() call here, its
+// target in estimators/CMakeLists.txt.
+#include "estimators/baseline/none_estimator.h"
+#include "framework/estimator.h"
+
+namespace kincal {
+namespace {
+
+template <typename T>
+EstimatorRegistry::Factory FactoryOf() {
+  return [](const YAML::Node& node) -> std::unique_ptr<Estimator> {
+    const typename T::Options options = T::Options::FromYaml(node);
+    std::string why;
+    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + why);
+    return std::make_unique<T>(options);
+  };
+}
+
+EstimatorRegistry MakeRegistry() {
+  EstimatorRegistry r;
+  r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(), true, ""});
+  return r;
+}
+
+}  // namespace
+
+const EstimatorRegistry& Estimators() {
+  static const EstimatorRegistry registry = MakeRegistry();
+  return registry;
+}
+
+}  // namespace kincal

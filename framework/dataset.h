@@ -1,0 +1,57 @@
+#pragma once
+// Dataset: measurements of a robot, one row per measurement (DESIGN.md "File contracts (v1)").
+// Everything is SI here; the file's units are remembered only to write it back the same way.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "framework/units.h"
+
+namespace kincal {
+
+enum class Split { kNone, kTrain, kTest };
+
+struct Measurement {
+  Eigen::VectorXd q;                           // commanded joint angles, rad (m for prismatic)
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(); // measured marker position in the measurement frame, m
+  std::optional<Eigen::Quaterniond> orientation;  // measured tool orientation, if any
+  std::vector<int64_t> encoders;               // motor encoder counts; empty if not recorded
+  int sweep = 0;                               // 1-based joint being swept; 0 for a free pose
+  std::string marker;                          // reflector id; "" for the tool origin
+  int session = 0;                             // instrument set-up; 0 is the robot file's base
+  Split split = Split::kNone;
+  int line = 0;                                // line in the source file (for messages), 0 if made here
+};
+
+struct Dataset {
+  int dof = 0;
+  std::vector<Measurement> rows;
+  Unit length_unit = {"mm", 1e-3};
+  Unit angle_unit = {"deg", M_PI / 180.0};
+  std::string source;                          // file it came from, for messages
+  std::vector<std::string> comments;           // '#' lines, written back at the top
+
+  bool HasEncoders() const;
+  bool HasOrientation() const;
+  bool HasSweeps() const;
+  bool HasSessions() const;
+  bool HasMarkers() const;
+  bool HasSplit() const;
+  // Rows whose split is `which` (kNone: every row).
+  Dataset Subset(Split which) const;
+  // Throws std::invalid_argument ("source:line: what") unless every row has dof joints and finite values.
+  void Validate(int expected_dof) const;
+};
+
+// CSV columns: q1_deg..qN_deg (or _rad; _mm/_m for prismatic joints), x_mm,y_mm,z_mm (or _m), optional
+// enc1..encN, qw,qx,qy,qz, sweep, marker, session, split. '#' lines are comments.
+Dataset ReadDataset(const std::string& path);
+Dataset ParseDatasetCsv(const std::string& text, const std::string& source_name);
+std::string DatasetToCsv(const Dataset& data);
+void WriteDataset(const Dataset& data, const std::string& path);  // atomic
+
+}  // namespace kincal

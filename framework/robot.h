@@ -1,0 +1,55 @@
+#pragma once
+// Robot: everything a robot file describes. Geometry (a KinematicModel), optional drives, joint limits,
+// markers on the tool and per-session bases, plus the units the file was written in (used only when
+// the robot is written back).
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "framework/kinematic_model.h"
+#include "framework/units.h"
+#include "models/drive_model.h"
+
+namespace kincal {
+
+class Robot {
+ public:
+  Robot() = default;
+  Robot(std::string name, std::unique_ptr<KinematicModel> model);
+  Robot(const Robot& other);
+  Robot& operator=(const Robot& other);
+  Robot(Robot&&) = default;
+  Robot& operator=(Robot&&) = default;
+
+  std::string name;
+  std::optional<DriveModel> drives;
+  // Joint limits, rad (m for prismatic); empty means +-90 deg for every joint.
+  std::vector<std::pair<double, double>> limits;
+  // Marker (reflector) positions in the tool frame, m, by id (the dataset's `marker` column).
+  std::map<std::string, Eigen::Vector3d> markers;
+  // T_meas_base per session id (the dataset's `session` column), when the instrument was moved.
+  std::map<int, Eigen::Isometry3d> session_bases;
+  Unit length_unit = {"mm", 1e-3};
+  Unit angle_unit = {"deg", M_PI / 180.0};
+
+  KinematicModel& model() { return *model_; }
+  const KinematicModel& model() const { return *model_; }
+  bool has_model() const { return model_ != nullptr; }
+  int dof() const { return model_ ? model_->dof() : 0; }
+
+  // Limits in effect (the default when none were given).
+  std::pair<double, double> Limit(int joint) const;
+  // Position of marker `id` in the tool frame; the tool origin for "" (no marker column).
+  // Throws std::invalid_argument for an unknown id.
+  Eigen::Vector3d MarkerPosition(const std::string& id) const;
+  // T_meas_base for a session (the model's base for session 0 or a session without its own base).
+  Eigen::Isometry3d SessionBase(int session) const;
+
+ private:
+  std::unique_ptr<KinematicModel> model_;
+};
+
+}  // namespace kincal

@@ -1,0 +1,74 @@
+#include "framework/units.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "framework/error.h"
+
+namespace kincal {
+
+Unit LengthUnit(const std::string& name) {
+  if (name == "m") return {"m", 1.0};
+  if (name == "cm") return {"cm", 1e-2};
+  if (name == "mm") return {"mm", 1e-3};
+  if (name == "um" || name == "\xC2\xB5m") return {"um", 1e-6};
+  ThrowInputError("unknown length unit '" + name + "' (expected m, cm, mm or um)");
+}
+
+Unit AngleUnit(const std::string& name) {
+  if (name == "rad") return {"rad", 1.0};
+  if (name == "deg") return {"deg", M_PI / 180.0};
+  ThrowInputError("unknown angle unit '" + name + "' (expected rad or deg)");
+}
+
+bool ParseDouble(const std::string& text, double* value) {
+  size_t begin = text.find_first_not_of(" \t\r");
+  size_t end = text.find_last_not_of(" \t\r");
+  if (begin == std::string::npos) return false;
+  const char* first = text.data() + begin;
+  const char* last = text.data() + end + 1;
+  if (*first == '+') ++first;
+  double v = 0.0;
+  auto [ptr, ec] = std::from_chars(first, last, v);
+  if (ec != std::errc() || ptr != last || !std::isfinite(v)) return false;
+  *value = v;
+  return true;
+}
+
+double ParseLength(const std::string& text, const Unit& default_unit) {
+  size_t split = text.find_first_not_of("0123456789.eE+- \t");
+  // "1e-3m": an 'e' followed by a unit letter is ambiguous only for "em", which is not a unit.
+  std::string number = text.substr(0, split);
+  std::string unit = split == std::string::npos ? "" : text.substr(split);
+  while (!unit.empty() && unit.back() == ' ') unit.pop_back();
+  double value = 0.0;
+  if (!ParseDouble(number, &value)) {
+    ThrowInputError("expected a length such as '0.01', '10um' or '0.05mm', got '" + text + "'");
+  }
+  const Unit u = unit.empty() ? default_unit : LengthUnit(unit);
+  return value * u.to_si;
+}
+
+std::string FormatExact(double value) {
+  char buffer[64];
+  auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  (void)ec;
+  return std::string(buffer, ptr);
+}
+
+std::string FormatInUnit(double si, const Unit& unit) {
+  if (unit.to_si == 1.0) return FormatExact(si);
+  const double in_unit = si / unit.to_si;
+  for (int precision = 1; precision <= 17; ++precision) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof(buffer), "%.*g", precision, in_unit);
+    double parsed = 0.0;
+    if (ParseDouble(buffer, &parsed) && parsed * unit.to_si == si) return FormatExact(parsed);
+  }
+  // No decimal maps back exactly (rare); the nearest 17-digit value is within one ulp.
+  return FormatExact(in_unit);
+}
+
+}  // namespace kincal

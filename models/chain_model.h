@@ -1,0 +1,60 @@
+#pragma once
+// ChainModel: a KinematicModel written as a product of elementary transforms (translations and rotations
+// about the local x, y or z axis), each driven by one parameter and, for the joint's own transform, by
+// the joint variable as well. MDH, DH and Hayati are all such products; writing them this way gives one
+// implementation of forward kinematics and of every analytic derivative:
+//   a rotation about the local axis w (world direction omega, at world point o) moves a tool point p
+//   with velocity omega x (p - o) and turns the tool with angular velocity omega;
+//   a translation along w moves every tool point with velocity omega and does not turn it.
+// Runs of constant transforms between joints are composed once, when the parameters change, so forward
+// kinematics costs one sin/cos and one 3x4 product per joint.
+#include <vector>
+
+#include "framework/kinematic_model.h"
+
+namespace kincal {
+
+class ChainModel : public KinematicModel {
+ public:
+  struct Op {
+    enum Type { kTx, kTy, kTz, kRx, kRy, kRz };
+    Type type = kTx;
+    int parameter = -1;  // index into Parameters()
+    int joint = -1;      // 0-based joint whose variable is added to the parameter, -1 if none
+    int link = 0;        // 0 = base, 1..n = link i (ends at frame i), n + 1 = tool
+  };
+
+  Eigen::Isometry3d ForwardKinematics(const Eigen::VectorXd& q) const override;
+  std::vector<Eigen::Isometry3d> FramePoses(const Eigen::VectorXd& q) const override;
+  Matrix6Xd JointJacobian(const Eigen::VectorXd& q,
+                          const Eigen::Vector3d& p_tool_point = Eigen::Vector3d::Zero()) const override;
+  std::vector<Eigen::Matrix4d> PoseDerivatives(const Eigen::VectorXd& q) const override;
+  Eigen::Isometry3d ParameterJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
+                                      Matrix6Xd* J) const override;
+  using KinematicModel::ParameterJacobian;
+
+  const std::vector<Op>& ops() const { return ops_; }
+
+ protected:
+  // Declares base ops, the subclass's link ops and tool ops. Subclasses call this from their constructor.
+  void BuildChain(std::vector<JointType> joint_types, std::vector<ParameterInfo> joint_parameters,
+                  std::vector<Op> link_ops);
+  void OnParametersChanged() override;
+
+ private:
+  struct Frame {
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  };
+  static void Apply(Op::Type type, double value, double c, double s, Frame* F);
+  void CheckJoints(const Eigen::VectorXd& q) const;
+
+  std::vector<Op> ops_;
+  // Fast path: constant_[k] is the composition of the constant ops before joint k (k = 0..n-1), and
+  // constant_[n] the ones after the last joint.
+  std::vector<Frame> constant_;
+  std::vector<Op> joint_ops_;   // one per joint, in order
+  std::vector<double> cos_, sin_;  // of each op's parameter value (joint ops: of the parameter alone)
+};
+
+}  // namespace kincal

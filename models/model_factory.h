@@ -1,0 +1,15 @@
+#pragma once
+// Models by convention name, as the robot file's `convention` key names them.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/kinematic_model.h"
+
+namespace kincal {
+
+// "mdh" or "dh"; throws std::invalid_argument naming the known conventions.
+std::unique_ptr<KinematicModel> MakeModel(const std::string& convention, const std::vector<JointType>& joints);
+std::vector<std::string> ModelConventions();
+
+}  // namespace kincal
