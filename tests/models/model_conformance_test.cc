@@ -4,6 +4,7 @@
 
 #include "framework/random.h"
 #include "models/dh_model.h"
+#include "models/hayati_model.h"
 #include "models/mdh_model.h"
 #include "tests/support/test_util.h"
 
@@ -115,7 +116,7 @@ TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
   const Eigen::VectorXd q = RandomJoints(*model, 500);
   const auto frames = model->FramePoses(q);
   const Matrix6Xd J = model->JointJacobian(q);
-  const int offset = model->convention() == "mdh" ? 1 : 0;
+  const int offset = model->convention() == "dh" ? 0 : 1;
   for (int i = 0; i < model->dof(); ++i) {
     const Eigen::Vector3d z = frames[i + offset].linear().col(2);
     // A revolute joint turns about z; a prismatic one slides along it.
@@ -140,7 +141,7 @@ TEST_P(ModelConformance, BaseAndToolRoundTrip) {
 TEST_P(ModelConformance, ParametersByName) {
   auto model = GetParam().make();
   const auto names = model->ParameterNames();
-  EXPECT_EQ(static_cast<int>(names.size()), 4 * model->dof() + 12);
+  EXPECT_EQ(static_cast<int>(names.size()), static_cast<int>(model->RowKeys().size()) * model->dof() + 12);
   model->SetParameter("a_2", 0.25);
   EXPECT_EQ(model->Parameter("a_2"), 0.25);
   EXPECT_THROW(model->ParameterIndex("a_99"), std::invalid_argument);
@@ -156,6 +157,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         ModelCase{"mdh6", [] { return Randomized(std::make_unique<MdhModel>(6), 1); }},
         ModelCase{"dh6", [] { return Randomized(std::make_unique<DhModel>(6), 2); }},
+        ModelCase{"hayati6", [] { return Randomized(std::make_unique<HayatiModel>(6), 7); }},
         ModelCase{"mdh3", [] { return Randomized(std::make_unique<MdhModel>(3), 3); }},
         ModelCase{"mdh7", [] { return Randomized(std::make_unique<MdhModel>(7), 4); }},
         ModelCase{"mdh_rrp", [] {

@@ -1,0 +1,24 @@
+#pragma once
+// Modified DH extended with Hayati's rotation about y (Hayati & Mirmirani 1985; the remedy METHOD.md
+// section 2 names for parallel axes). Row i holds alpha_i, a_i, beta_i, theta_i, d_i:
+//     T_{i-1}^{i}(q_i) = Dx(a_i) * Rx(alpha_i) * Ry(beta_i) * Dz(d_i) * Rz(theta_i + q_i)
+// With beta_i = 0 this is exactly MdhModel. When axes i-1 and i are (nearly) parallel, a small tilt of
+// axis i about y is beta_i, a well-conditioned parameter, where MDH would need a huge d or offset; for
+// such rows d_i and the previous row's d are then redundant, and the identifiability analysis of the
+// estimators fixes one of them. For non-parallel rows beta_i is the redundant one (fix it, or let the
+// estimator find that out).
+#include "models/chain_model.h"
+
+namespace kincal {
+
+class HayatiModel final : public ChainModel {
+ public:
+  explicit HayatiModel(std::vector<JointType> joint_types);
+  explicit HayatiModel(int revolute_joints)
+      : HayatiModel(std::vector<JointType>(revolute_joints, JointType::kRevolute)) {}
+  std::unique_ptr<KinematicModel> Clone() const override { return std::make_unique<HayatiModel>(*this); }
+  std::string convention() const override { return "hayati"; }
+  std::vector<std::string> RowKeys() const override { return {"alpha", "a", "beta", "theta", "d"}; }
+};
+
+}  // namespace kincal
