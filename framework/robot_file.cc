@@ -125,7 +125,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   } else {
     ThrowInputError(source, 1, 1, "missing key 'units' (e.g. units: {length: mm, angle: deg})");
   }
-  if (!root["convention"]) ThrowInputError(source, 1, 1, "missing key 'convention' (mdh, dh or hayati)");
+  if (!root["convention"]) ThrowInputError(source, 1, 1, "missing key 'convention' (mdh, dh, hayati or poe)");
   if (!root["joints"]) ThrowInputError(source, 1, 1, "missing key 'joints'");
   const std::string convention = r.String(root["convention"], "convention");
   const YAML::Node joints = root["joints"];
@@ -155,8 +155,8 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     const YAML::Node row = joints[i];
     r.CheckKeys(row, allowed, "joint row " + std::to_string(i + 1));
     for (const auto& key : keys) {
-      // Hayati's beta defaults to 0, so an MDH table reads as a Hayati model unchanged.
-      if (!row[key] && key == "beta") continue;
+      // Hayati's beta and a POE row's theta default to 0 (an MDH table reads as a Hayati model unchanged).
+      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta"))) continue;
       if (!row[key]) r.Fail(row, "joint row " + std::to_string(i + 1) + " lacks '" + key + "'");
       const std::string name = key + "_" + std::to_string(i + 1);
       const int index = model->ParameterIndex(name);

@@ -5,6 +5,7 @@
 #include "framework/random.h"
 #include "models/dh_model.h"
 #include "models/hayati_model.h"
+#include "models/poe_model.h"
 #include "models/mdh_model.h"
 #include "tests/support/test_util.h"
 
@@ -142,8 +143,9 @@ TEST_P(ModelConformance, ParametersByName) {
   auto model = GetParam().make();
   const auto names = model->ParameterNames();
   EXPECT_EQ(static_cast<int>(names.size()), static_cast<int>(model->RowKeys().size()) * model->dof() + 12);
-  model->SetParameter("a_2", 0.25);
-  EXPECT_EQ(model->Parameter("a_2"), 0.25);
+  const std::string name = names[5];
+  model->SetParameter(name, 0.25);
+  EXPECT_EQ(model->Parameter(name), 0.25);
   EXPECT_THROW(model->ParameterIndex("a_99"), std::invalid_argument);
   model->SetFree("theta_1", false);
   EXPECT_FALSE(model->FreeMask()[model->ParameterIndex("theta_1")]);
@@ -152,12 +154,35 @@ TEST_P(ModelConformance, ParametersByName) {
   EXPECT_EQ(clone->FreeMask(), model->FreeMask());
 }
 
+// Converting any model to local POE keeps its forward kinematics for every q.
+TEST(PoeConversion, SameForwardKinematicsAsTheSourceModel) {
+  for (uint64_t seed = 11; seed < 14; ++seed) {
+    const auto mdh = Randomized(std::make_unique<MdhModel>(6), seed);
+    const auto dh = Randomized(std::make_unique<DhModel>(6), seed + 10);
+    for (const KinematicModel* source : {mdh.get(), dh.get()}) {
+      const PoeModel poe = PoeModel::FromModel(*source);
+      Rng rng(seed);
+      for (int k = 0; k < 10; ++k) {
+        Eigen::VectorXd q(6);
+        for (int i = 0; i < 6; ++i) q[i] = rng.Uniform(-3, 3);
+        EXPECT_TRUE(poe.ForwardKinematics(q).isApprox(source->ForwardKinematics(q), 1e-12)) << source->convention();
+      }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     AllModels, ModelConformance,
     ::testing::Values(
         ModelCase{"mdh6", [] { return Randomized(std::make_unique<MdhModel>(6), 1); }},
         ModelCase{"dh6", [] { return Randomized(std::make_unique<DhModel>(6), 2); }},
         ModelCase{"hayati6", [] { return Randomized(std::make_unique<HayatiModel>(6), 7); }},
+        ModelCase{"poe6", [] { return Randomized(std::make_unique<PoeModel>(6), 8); }},
+        ModelCase{"poe_rpr", [] {
+                    return Randomized(std::make_unique<PoeModel>(std::vector<JointType>{
+                                          JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
+                                      9);
+                  }},
         ModelCase{"mdh3", [] { return Randomized(std::make_unique<MdhModel>(3), 3); }},
         ModelCase{"mdh7", [] { return Randomized(std::make_unique<MdhModel>(7), 4); }},
         ModelCase{"mdh_rrp", [] {
