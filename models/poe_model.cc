@@ -1,5 +1,7 @@
 #include "models/poe_model.h"
 
+#include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace kincal {
@@ -21,11 +23,12 @@ PoeModel::PoeModel(std::vector<JointType> joint_types) {
     const bool revolute = joint_types[i] == JointType::kRevolute;
     ops.push_back({Op::kTx, first + 0, -1, link});
     ops.push_back({Op::kTy, first + 1, -1, link});
-    // A prismatic joint slides along the local z: its variable adds to z_i.
-    ops.push_back({Op::kTz, first + 2, revolute ? -1 : i, link});
+    if (revolute) ops.push_back({Op::kTz, first + 2, -1, link});
     ops.push_back({Op::kRz, first + 5, -1, link});
     ops.push_back({Op::kRy, first + 4, -1, link});
     ops.push_back({Op::kRx, first + 3, -1, link});
+    // A prismatic joint slides along its own z axis: z_i is measured along it and the variable adds to it.
+    if (!revolute) ops.push_back({Op::kTz, first + 2, i, link});
     ops.push_back({Op::kRz, first + 6, revolute ? i : -1, link});
   }
   BuildChain(std::move(joint_types), std::move(info), std::move(ops));
@@ -66,6 +69,14 @@ PoeModel PoeModel::FromModel(const KinematicModel& model) {
     const Eigen::Isometry3d T_rel = parent.inverse() * joint_frames[i];
     const Eigen::Vector3d rpy = RpyFromRotation(T_rel.linear());
     p.segment<3>(7 * i) = T_rel.translation();
+    if (model.joint_type(i) == JointType::kPrismatic) {
+      // z is measured along the joint axis: t = (x, y, 0) + z * R e_z.
+      const double along = T_rel.linear()(2, 2);
+      if (std::abs(along) < 1e-9) throw std::invalid_argument("PoeModel::FromModel: prismatic axis perpendicular to its parent's z");
+      const double z = T_rel.translation().z() / along;
+      p.segment<3>(7 * i) = T_rel.translation() - z * T_rel.linear().col(2);
+      p[7 * i + 2] = z;
+    }
     p[7 * i + 3] = rpy.x();
     p[7 * i + 4] = rpy.y();
     p[7 * i + 5] = rpy.z();

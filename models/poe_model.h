@@ -4,6 +4,7 @@
 // pose of joint i's frame in joint i-1's frame at q = 0, and the joint turns (or slides) about that
 // frame's z axis:
 //     T_{i-1}^{i}(q_i) = Trans(x_i, y_i, z_i) * Rz(yaw_i) * Ry(pitch_i) * Rx(roll_i) * Rz(theta_i + q_i)
+// (a prismatic row: Trans(x_i, y_i, 0) * Rz Ry Rx * Dz(z_i + q_i) * Rz(theta_i), sliding along its own z).
 // Unlike (M)DH, any placement of consecutive axes, parallel ones included, has a nearby well-conditioned
 // representation. The price is redundancy: 7 numbers per row where 4 (or 6 with the base) suffice; the
 // estimators' identifiability analysis fixes the redundant ones (theta_i against yaw_i, translation

@@ -159,12 +159,15 @@ TEST(PoeConversion, SameForwardKinematicsAsTheSourceModel) {
   for (uint64_t seed = 11; seed < 14; ++seed) {
     const auto mdh = Randomized(std::make_unique<MdhModel>(6), seed);
     const auto dh = Randomized(std::make_unique<DhModel>(6), seed + 10);
-    for (const KinematicModel* source : {mdh.get(), dh.get()}) {
+    const auto rpr = Randomized(std::make_unique<MdhModel>(std::vector<JointType>{
+                                    JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
+                                seed + 20);
+    for (const KinematicModel* source : {mdh.get(), dh.get(), rpr.get()}) {
       const PoeModel poe = PoeModel::FromModel(*source);
       Rng rng(seed);
       for (int k = 0; k < 10; ++k) {
-        Eigen::VectorXd q(6);
-        for (int i = 0; i < 6; ++i) q[i] = rng.Uniform(-3, 3);
+        Eigen::VectorXd q(source->dof());
+        for (int i = 0; i < source->dof(); ++i) q[i] = rng.Uniform(-3, 3);
         EXPECT_TRUE(poe.ForwardKinematics(q).isApprox(source->ForwardKinematics(q), 1e-12)) << source->convention();
       }
     }
