@@ -52,6 +52,7 @@ double ParseLength(const std::string& text, const Unit& default_unit) {
 }
 
 std::string FormatExact(double value) {
+  if (value == 0.0) value = 0.0;  // no "-0" in files
   char buffer[64];
   auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
   (void)ec;

@@ -49,8 +49,12 @@ PoeModel PoeModel::FromModel(const KinematicModel& model) {
   for (int i = 0; i < n; ++i) {
     const bool revolute = model.joint_type(i) == JointType::kRevolute;
     const Eigen::Vector3d z = (revolute ? J.col(i).tail<3>() : J.col(i).head<3>()).normalized();
-    const Eigen::Vector3d origin =
-        revolute ? Eigen::Vector3d(T_meas_tool.translation() + z.cross(J.col(i).head<3>())) : previous.translation();
+    Eigen::Vector3d origin = previous.translation();
+    if (revolute) {
+      // The point of the axis nearest the previous frame's origin, so that rows stay short.
+      const Eigen::Vector3d on_axis = T_meas_tool.translation() + z.cross(J.col(i).head<3>());
+      origin = on_axis + z * z.dot(previous.translation() - on_axis);
+    }
     // x: the previous frame's x made perpendicular to z (or y, if x is along z), for small angles.
     Eigen::Vector3d x = previous.linear().col(0) - z * z.dot(previous.linear().col(0));
     if (x.norm() < 1e-6) x = previous.linear().col(1) - z * z.dot(previous.linear().col(1));
