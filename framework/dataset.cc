@@ -1,6 +1,7 @@
 #include "framework/dataset.h"
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -39,8 +40,9 @@ Dataset Dataset::Subset(Split which) const {
 
 void Dataset::Validate(int expected_dof) const {
   if (dof != expected_dof) {
-    ThrowInputError(source, 0, 0, "the dataset has " + std::to_string(dof) + " joint columns but the robot has " +
-                                      std::to_string(expected_dof) + " joints");
+    ThrowInputError(source, header_line, header_line > 0 ? 1 : 0,
+                    "the dataset has " + std::to_string(dof) + " joint columns but the robot has " +
+                        std::to_string(expected_dof) + " joints");
   }
   for (size_t i = 0; i < rows.size(); ++i) {
     const Measurement& m = rows[i];
@@ -159,6 +161,7 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
   const Columns c = MapColumns(t, source);
   Dataset data;
   data.source = source;
+  data.header_line = t.header.line;
   data.comments = t.comments;
   data.dof = static_cast<int>(c.q.size());
   data.length_unit = c.length;
@@ -191,7 +194,10 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
       if (std::abs(quat.norm() - 1.0) > 1e-6) {
         ThrowInputError(source, row.line, row.columns[c.qw], "expected a unit quaternion (qw, qx, qy, qz)");
       }
-      m.orientation = quat.normalized();
+      // Normalise only what is not unit to rounding already, so that writing and reading back keeps the bits.
+      m.orientation = std::abs(quat.squaredNorm() - 1.0) <= 4 * std::numeric_limits<double>::epsilon()
+                          ? quat
+                          : quat.normalized();
     }
     if (c.sweep >= 0 && !row.cells[c.sweep].empty()) m.sweep = static_cast<int>(integer(c.sweep, "sweep"));
     if (c.marker >= 0) m.marker = row.cells[c.marker];

@@ -33,6 +33,7 @@ struct Dataset {
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
   std::string source;                          // file it came from, for messages
+  int header_line = 0;                         // line of the header row in `source` (0 if made here)
   std::vector<std::string> comments;           // '#' lines, written back at the top
 
   bool HasEncoders() const;

@@ -18,13 +18,18 @@ Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
 }
 
 Eigen::Vector3d RpyFromRotation(const Eigen::Matrix3d& R) {
-  const double pitch = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
-  if (std::abs(std::abs(pitch) - M_PI / 2) < 1e-12) {
-    // Gimbal lock: only yaw -+ roll is defined; put it all in yaw.
-    const double yaw = std::atan2(-R(0, 1), R(1, 1));
-    return {0.0, pitch, yaw};
-  }
-  return {std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0))};
+  // R = Rz(yaw) Ry(pitch) Rx(roll). Near pitch = +-pi/2 roll and yaw are each ill-determined (only their
+  // sum or difference is), so reading roll from R(2,1), R(2,2) ~ cos(pitch) would lose digits. Instead
+  // yaw comes first and roll from M = Rz(-yaw) R = Ry(pitch) Rx(roll), whose entries M(1,1) = cos(roll)
+  // and M(1,2) = -sin(roll) are O(1): whatever error yaw has, roll absorbs it and R comes back exact.
+  const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
+  const double pitch = std::atan2(-R(2, 0), cos_pitch);
+  // Only at exact gimbal lock is yaw undefined; put the whole turn into it then (roll = 0).
+  const double yaw = cos_pitch == 0.0 ? std::atan2(-R(0, 1), R(1, 1)) : std::atan2(R(1, 0), R(0, 0));
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double m11 = -s * R(0, 1) + c * R(1, 1);
+  const double m12 = -s * R(0, 2) + c * R(1, 2);
+  return {std::atan2(-m12, m11), pitch, yaw};
 }
 
 Eigen::Isometry3d PoseFromXyzRpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy) {

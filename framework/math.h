@@ -12,7 +12,8 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
 
 // Roll-pitch-yaw about fixed x, y, z: R = Rz(yaw) * Ry(pitch) * Rx(roll), as in URDF.
 Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy);
-// Inverse of RotationFromRpy; pitch in [-pi/2, pi/2]. At pitch = +-pi/2 roll is set to 0.
+// Inverse of RotationFromRpy; pitch in [-pi/2, pi/2]. Exact to rounding even next to gimbal lock; at exact
+// lock (R(0,0) = R(1,0) = 0) roll is set to 0.
 Eigen::Vector3d RpyFromRotation(const Eigen::Matrix3d& R);
 
 Eigen::Isometry3d PoseFromXyzRpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy);

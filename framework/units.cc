@@ -52,11 +52,18 @@ double ParseLength(const std::string& text, const Unit& default_unit) {
 }
 
 std::string FormatExact(double value) {
+  // The shortest digits that read back to `value`, written the way people write numbers (as Python's
+  // repr does): positional for decimal exponents -5 < e < 16 ("0.0001", "20000"), scientific otherwise
+  // ("1e-05"). std::to_chars alone picks whichever text is shorter, which turns 0.0001 into "1e-04".
   if (value == 0.0) value = 0.0;  // no "-0" in files
-  char buffer[64];
-  auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  (void)ec;
-  return std::string(buffer, ptr);
+  char buffer[400];  // fixed notation of 1e15 needs 16 digits, of 1e-5 (shortest) 7 characters
+  const std::to_chars_result scientific =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::scientific);
+  const std::string text(buffer, scientific.ptr);
+  const int exponent = std::stoi(text.substr(text.find('e') + 1));
+  if (value != 0.0 && (exponent <= -5 || exponent >= 16)) return text;
+  const std::to_chars_result fixed = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed);
+  return std::string(buffer, fixed.ptr);
 }
 
 std::string FormatInUnit(double si, const Unit& unit) {

@@ -54,7 +54,7 @@ void ChainModel::BuildChain(std::vector<JointType> joint_types, std::vector<Para
   OnParametersChanged();
 }
 
-void ChainModel::Apply(Op::Type type, double value, double c, double s, Frame* F) {
+inline void ChainModel::Apply(Op::Type type, double value, double c, double s, Frame* F) {
   Eigen::Matrix3d& R = F->R;
   switch (type) {
     case Op::kTx: F->p += R.col(0) * value; break;
@@ -89,42 +89,36 @@ void ChainModel::OnParametersChanged() {
     cos_[k] = std::cos(v[ops_[k].parameter]);
     sin_[k] = std::sin(v[ops_[k].parameter]);
   }
-  constant_.assign(joint_ops_.size() + 1, Frame());
-  size_t segment = 0;
+  steps_.clear();
   for (size_t k = 0; k < ops_.size(); ++k) {
-    if (ops_[k].joint >= 0) {
-      ++segment;
-      continue;
-    }
-    Apply(ops_[k].type, v[ops_[k].parameter], cos_[k], sin_[k], &constant_[segment]);
-  }
-}
-
-void ChainModel::CheckJoints(const Eigen::VectorXd& q) const {
-  if (q.size() != dof()) {
-    throw std::invalid_argument("expected " + std::to_string(dof()) + " joint values, got " +
-                                std::to_string(q.size()));
+    const Op& op = ops_[k];
+    const double value = v[op.parameter];
+    // Translating or turning by exactly zero changes no bit of the frame; such ops are skipped.
+    if (op.joint < 0 && value == 0.0) continue;
+    steps_.push_back({op.type, op.joint, value, cos_[k], sin_[k]});
   }
 }
 
 namespace {
-// F = F * C for a constant frame C.
-inline void Compose(const Eigen::Matrix3d& R_c, const Eigen::Vector3d& p_c, Eigen::Matrix3d* R,
-                    Eigen::Vector3d* p) {
-  *p += (*R) * p_c;
-  *R = (*R) * R_c;
+[[noreturn]] void ThrowJointCount(int expected, Eigen::Index got) {
+  throw std::invalid_argument("expected " + std::to_string(expected) + " joint values, got " + std::to_string(got));
 }
 }  // namespace
 
+inline void ChainModel::CheckJoints(const Eigen::VectorXd& q) const {
+  if (q.size() != dof()) ThrowJointCount(dof(), q.size());
+}
+
 Eigen::Isometry3d ChainModel::ForwardKinematics(const Eigen::VectorXd& q) const {
   CheckJoints(q);
-  const Eigen::VectorXd& v = Parameters();
-  Frame F = constant_[0];
-  for (size_t k = 0; k < joint_ops_.size(); ++k) {
-    const Op& op = joint_ops_[k];
-    const double value = v[op.parameter] + q[op.joint];
-    Apply(op.type, value, std::cos(value), std::sin(value), &F);
-    Compose(constant_[k + 1].R, constant_[k + 1].p, &F.R, &F.p);
+  Frame F;
+  for (const Step& step : steps_) {
+    if (step.joint < 0) {
+      Apply(step.type, step.value, step.c, step.s, &F);
+    } else {
+      const double value = step.value + q[step.joint];
+      Apply(step.type, value, std::cos(value), std::sin(value), &F);
+    }
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = F.R;
@@ -152,23 +146,25 @@ std::vector<Eigen::Isometry3d> ChainModel::FramePoses(const Eigen::VectorXd& q) 
 
 Matrix6Xd ChainModel::JointJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point) const {
   CheckJoints(q);
-  const Eigen::VectorXd& v = Parameters();
   Matrix6Xd J(6, dof());
-  Frame F = constant_[0];
-  for (size_t k = 0; k < joint_ops_.size(); ++k) {
-    const Op& op = joint_ops_[k];
-    const Eigen::Vector3d axis = F.R.col(AxisOf(op.type));
-    if (IsRotation(op.type)) {
-      // omega x (p_end - o): the omega x p_end part is added once p_end is known.
-      J.col(k).head<3>() = -axis.cross(F.p);
-      J.col(k).tail<3>() = axis;
-    } else {
-      J.col(k).head<3>() = axis;
-      J.col(k).tail<3>().setZero();
+  Frame F;
+  for (const Step& step : steps_) {
+    if (step.joint < 0) {
+      Apply(step.type, step.value, step.c, step.s, &F);
+      continue;
     }
-    const double value = v[op.parameter] + q[op.joint];
-    Apply(op.type, value, std::cos(value), std::sin(value), &F);
-    Compose(constant_[k + 1].R, constant_[k + 1].p, &F.R, &F.p);
+    const Eigen::Vector3d axis = F.R.col(AxisOf(step.type));
+    auto column = J.col(step.joint);
+    if (IsRotation(step.type)) {
+      // omega x (p_end - o): the omega x p_end part is added once p_end is known.
+      column.head<3>() = -axis.cross(F.p);
+      column.tail<3>() = axis;
+    } else {
+      column.head<3>() = axis;
+      column.tail<3>().setZero();
+    }
+    const double value = step.value + q[step.joint];
+    Apply(step.type, value, std::cos(value), std::sin(value), &F);
   }
   const Eigen::Vector3d p_end = F.p + F.R * p_tool_point;
   J.topRows<3>() -= Skew(p_end) * J.bottomRows<3>();

@@ -6,8 +6,11 @@
 //   a rotation about the local axis w (world direction omega, at world point o) moves a tool point p
 //   with velocity omega x (p - o) and turns the tool with angular velocity omega;
 //   a translation along w moves every tool point with velocity omega and does not turn it.
-// Runs of constant transforms between joints are composed once, when the parameters change, so forward
-// kinematics costs one sin/cos and one 3x4 product per joint.
+// Forward kinematics and the joint Jacobian walk the elementary ops themselves, with the cosines and sines
+// of the constant ones computed when the parameters change and the ops that are exactly the identity (a
+// zero offset or angle, common in DH tables) left out: a rotation about a local axis mixes two columns of
+// the running frame (12 multiplications), a translation adds one column (3), less than composing dense
+// 3x4 blocks (36), so each joint costs one sincos and a few dozen multiplications.
 #include <vector>
 
 #include "framework/kinematic_model.h"
@@ -46,13 +49,18 @@ class ChainModel : public KinematicModel {
     Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
   };
+  // One op of the fast path: a constant op with its value, cosine and sine, or a joint op, whose value is
+  // the parameter the joint variable adds to.
+  struct Step {
+    Op::Type type = Op::kTx;
+    int joint = -1;
+    double value = 0.0, c = 1.0, s = 0.0;
+  };
   static void Apply(Op::Type type, double value, double c, double s, Frame* F);
   void CheckJoints(const Eigen::VectorXd& q) const;
 
   std::vector<Op> ops_;
-  // Fast path: constant_[k] is the composition of the constant ops before joint k (k = 0..n-1), and
-  // constant_[n] the ones after the last joint.
-  std::vector<Frame> constant_;
+  std::vector<Step> steps_;     // ops_ without the exact identities, for the current parameters
   std::vector<Op> joint_ops_;   // one per joint, in order
   std::vector<double> cos_, sin_;  // of each op's parameter value (joint ops: of the parameter alone)
 };

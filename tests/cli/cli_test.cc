@@ -1,0 +1,163 @@
+// End-to-end tests of the `kincal` program: outputs agree with the library, bad input gives exit status 2
+// and one line on stderr naming the file and line, and a failing command leaves existing outputs alone.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "framework/simulator.h"
+#include "tests/support/test_util.h"
+
+namespace kincal {
+namespace {
+
+using testing::RunKincal;
+using testing::SourcePath;
+
+std::string Example(const std::string& file) { return SourcePath("examples/robots/" + file); }
+
+int LineCount(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+std::vector<std::string> FilesIn(const std::string& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+void ExpectFkOutputMatchesLibrary(const std::string& file, const std::string& q_text, const Eigen::VectorXd& q_file) {
+  const auto r = RunKincal("fk " + Example(file) + " --q=" + q_text);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json json = nlohmann::json::parse(r.out);
+  const Robot robot = ReadRobotFile(Example(file));
+  Eigen::VectorXd q = q_file * robot.angle_unit.to_si;
+  const Eigen::Matrix4d T = robot.model().ForwardKinematics(q).matrix();
+  ASSERT_EQ(json["T"].size(), 4u);
+  for (int row = 0; row < 4; ++row) {
+    ASSERT_EQ(json["T"][row].size(), 4u);
+    for (int col = 0; col < 4; ++col) {
+      const double expected = (col == 3 && row < 3) ? T(row, col) / robot.length_unit.to_si : T(row, col);
+      EXPECT_EQ(json["T"][row][col].get<double>(), expected) << file << " (" << row << ", " << col << ")";
+    }
+  }
+  EXPECT_EQ(json["units"]["length"], robot.length_unit.name);
+}
+
+TEST(Cli, FkPrintsTheLibrarysPoseInTheFilesUnits) {
+  ExpectFkOutputMatchesLibrary("seed_identified.yaml", "10,20,30,40,50,60",
+                               (Eigen::VectorXd(6) << 10, 20, 30, 40, 50, 60).finished());
+  ExpectFkOutputMatchesLibrary("ur10_dh.yaml", "0,-90,90,0,90,0.5",
+                               (Eigen::VectorXd(6) << 0, -90, 90, 0, 90, 0.5).finished());
+  ExpectFkOutputMatchesLibrary("puma560_mdh.yaml", "-12.5,1e1,0,0,0,+3",
+                               (Eigen::VectorXd(6) << -12.5, 10, 0, 0, 0, 3).finished());
+}
+
+TEST(Cli, FkRejectsAWrongNumberOfJoints) {
+  const auto r = RunKincal("fk " + Example("seed_nominal.yaml") + " --q=1,2,3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("expected 6 joint values"), std::string::npos) << r.err;
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(Cli, SimulateWritesAFileThatReadsBackAsTheLibrarysDataset) {
+  testing::TempDir dir;
+  const std::string out = dir.path("sweep.csv");
+  const auto r = RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " +
+                           Example("seed_identified.yaml") + " --protocol sweep --noise 10um --seed 7 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Dataset written = ReadDataset(out);
+  EXPECT_EQ(DatasetToCsv(written), testing::ReadText(out));
+  SimulatorOptions o;
+  o.noise_sigma = 10e-6;
+  o.seed = 7;
+  const Dataset expected = Simulate(testing::SeedNominal(), testing::SeedTruth(), o);
+  ASSERT_EQ(written.rows.size(), expected.rows.size());
+  ASSERT_EQ(written.rows.size(), 120u);
+  for (size_t i = 0; i < expected.rows.size(); ++i) {
+    EXPECT_EQ(written.rows[i].encoders, expected.rows[i].encoders);
+    EXPECT_EQ(written.rows[i].sweep, expected.rows[i].sweep);
+    EXPECT_LT((written.rows[i].q - expected.rows[i].q).cwiseAbs().maxCoeff(), 1e-15);
+    EXPECT_LT((written.rows[i].p - expected.rows[i].p).cwiseAbs().maxCoeff(), 1e-15);
+  }
+  // The same command again gives the same bytes.
+  const std::string again = dir.path("again.csv");
+  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " + Example("seed_identified.yaml") +
+                      " --protocol sweep --noise 10um --seed 7 --out " + again)
+                .exit_code,
+            0);
+  EXPECT_EQ(testing::ReadText(again), testing::ReadText(out));
+}
+
+TEST(Cli, BadRobotFileGivesExitTwoAndOneLineNamingFileAndLine) {
+  testing::TempDir dir;
+  const std::string bad = dir.path("bad_truth.yaml");
+  std::string text = testing::ReadText(Example("seed_identified.yaml"));
+  text.replace(text.find("counts_per_rev"), std::string("counts_per_rev").size(), "counts_per_turn");
+  testing::WriteText(bad, text);
+  const auto r = RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " + bad +
+                           " --protocol random --out " + dir.path("out.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+  // counts_per_rev is on line 16 of seed_identified.yaml, indented by two.
+  EXPECT_NE(r.err.find(bad + ":16:3: unknown key 'counts_per_turn'"), std::string::npos) << r.err;
+}
+
+TEST(Cli, AFailingCommandLeavesAnExistingOutputUnchanged) {
+  testing::TempDir dir;
+  const std::string out = dir.path("data.csv");
+  const std::string before = "q1_deg,x_mm,y_mm,z_mm\n1,2,3,4\n";
+  testing::WriteText(out, before);
+  const std::string bad = dir.path("bad.yaml");
+  testing::WriteText(bad, "name: bad\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints:\n  - {alpha: nan}\n");
+  const auto r = RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " + bad + " --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad + ":5:"), std::string::npos) << r.err;
+  EXPECT_EQ(testing::ReadText(out), before);
+  EXPECT_EQ(FilesIn(dir.path("")), (std::vector<std::string>{"bad.yaml", "data.csv"}));  // no temporary left over
+}
+
+TEST(Cli, BadDatasetNamesItsLineAndColumn) {
+  testing::TempDir dir;
+  const std::string data = dir.path("data.csv");
+  testing::WriteText(data,
+                     "# comment\nq1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm\n0,0,0,0,0,0,1,2,3\n"
+                     "0,0,0,0,0,0,1,two,3\n");
+  const std::string out = dir.path("identified.yaml");
+  const auto r = RunKincal("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                           " --method none --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(data + ":4:15: expected a finite number for y, got 'two'"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(Cli, MissingInputFileIsBadInput) {
+  const auto r = RunKincal("fk /nonexistent/robot.yaml --q=0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/robot.yaml"), std::string::npos) << r.err;
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+}
+
+TEST(Cli, UnknownOptionIsBadInput) {
+  const auto r = RunKincal("simulate --nominal x --truth y --out z --bogus 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+}
+
+TEST(Cli, HelpAndMethodsExitZero) {
+  const auto help = RunKincal("--help");
+  EXPECT_EQ(help.exit_code, 0) << help.err;
+  for (const char* command : {"fk", "simulate", "identify", "methods"}) {
+    EXPECT_NE(help.out.find(command), std::string::npos) << command;
+  }
+  const auto methods = RunKincal("methods");
+  EXPECT_EQ(methods.exit_code, 0) << methods.err;
+  for (const char* name : {"mdh", "dh", "none"}) EXPECT_NE(methods.out.find(name), std::string::npos) << name;
+  EXPECT_EQ(RunKincal("fk --help").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace kincal
