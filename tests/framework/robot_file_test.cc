@@ -311,7 +311,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"nan_word", 6, "  - {alpha: 90, a: nan, theta: 0, d: 0}", "robot.yaml:6:20", "expected a number for a_2"},
         BadCase{"infinity", 11, "tool: {xyz: [1, 2, .inf], rpy: [0, 0, 0]}", "robot.yaml:11:20",
                 "expected a number for tool.xyz"},
-        BadCase{"unknown_convention", 2, "convention: hayati", "robot.yaml:2:13", "unknown convention 'hayati'"},
+        BadCase{"unknown_convention", 2, "convention: craig", "robot.yaml:2:13", "unknown convention 'craig'"},
         BadCase{"bad_joint_type", 6, "  - {alpha: 90, a: 100, theta: 0, d: 0, type: spherical}", "robot.yaml:6:47",
                 "expected type revolute or prismatic"},
         BadCase{"limits_reversed", 10, "limits: [[-90, 90], [45, -45]]", "robot.yaml:10:21", "min < max"},
