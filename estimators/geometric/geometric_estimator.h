@@ -25,7 +25,7 @@ class GeometricEstimator final : public Estimator {
   struct Options {
     // Circle fit: "geometric" (default), "taubin", "pratt" or "kasa" (circle_fit.h). The default is the
     // most accurate on the seed's 20 x 2 deg arcs (circle_fit_test.cc; bench/geometric_accuracy.cc).
-    // min_spread (length, default 1 um), min_curvature_ratio (default 3) and max_iterations (default
+    // min_spread (length, default 1 um), min_curvature_ratio (default 2) and max_iterations (default
     // 100) guard and bound each arc fit (arc_fit.h).
     geometric::ArcFitOptions arc;
     // Consecutive axes closer to parallel than this are treated as parallel (common_normals.h), with a

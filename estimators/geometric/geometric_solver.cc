@@ -61,14 +61,17 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
     }
   }
 
-  sol.frames = FramesFromAxes(sol.axes, problem.nominal, problem.x_cal, problem.x1_hint, problem.parallel_threshold);
+  // The actual joint angles of the calibration configuration, measured on each joint's arc.
+  sol.q_cal.resize(n);
+  for (int i = 0; i < n; ++i) sol.q_cal[i] = fits[i].angle_slope * problem.x_cal[i];
+  sol.frames = FramesFromAxes(sol.axes, problem.nominal, sol.q_cal, problem.x1_hint, problem.parallel_threshold);
   const std::vector<Eigen::Isometry3d>& F = sol.frames.frames;
 
   sol.rows.resize(n);
   sol.rows[0] = problem.nominal[0];
-  sol.T_meas_base = F[0] * MdhTransform(sol.rows[0], problem.x_cal[0]).inverse();
+  sol.T_meas_base = F[0] * MdhTransform(sol.rows[0], sol.q_cal[0]).inverse();
   for (int i = 2; i <= n; ++i) {
-    MdhRow row = MdhRowFromFrames(F[i - 2], F[i - 1], problem.x_cal[i - 1]);
+    MdhRow row = MdhRowFromFrames(F[i - 2], F[i - 1], sol.q_cal[i - 1]);
     // Report theta on the nominal's side of the circle (90.4 deg, not -269.6).
     row.theta = problem.nominal[i - 1].theta + WrapAngle(row.theta - problem.nominal[i - 1].theta);
     sol.rows[i - 1] = row;
@@ -89,7 +92,7 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
   model->SetBase(sol.T_meas_base);
   // Tool: the marker's measured position in frame n of the model just built (so the model reproduces it
   // exactly at the calibration configuration), keeping the start robot's tool orientation.
-  const Eigen::Isometry3d T_meas_n = model->FramePoses(problem.x_cal)[n];
+  const Eigen::Isometry3d T_meas_n = model->FramePoses(sol.q_cal)[n];
   Eigen::Isometry3d T_n_tool = model->tool();
   T_n_tool.translation() = T_meas_n.inverse() * sol.p_meas_marker - T_n_tool.linear() * problem.p_tool_marker;
   model->SetTool(T_n_tool);

@@ -8,16 +8,22 @@
 // the already-known axes i < j (proximal first), each by the angle joint i had turned, measured on joint
 // i's own arc: angle_slope_i x (drive displacement); for the product of exponentials at the calibration
 // configuration, exp(S_1 t_1) ... exp(S_{j-1} t_{j-1}) moves every link beyond j-1, so its inverse brings
-// axis j back. No commanded step size enters: drive variables are scaled by the measured slope.
+// axis j back.
+//
+// Joint angles. No commanded step size enters: the actual angle of joint i at the calibration
+// configuration is measured on its arc too, q_i,cal = angle_slope_i x (drive variable there) =
+// (K_start / K_actual) x (start robot's angle), the angle from the encoder zero with the ratio the arc
+// shows. So theta_i = angle(X_{i-1}, X_i) - q_i,cal (METHOD.md eq. 7) is the offset from the encoder zero
+// whatever the ratios, and ratio_regression need not touch it. (The geometric stage's robot keeps the
+// start ratios, so it is exact at zero counts and errs by (1 - K_start / K_actual) q elsewhere, until
+// ratio_regression follows. For the seed's protocol q_cal is zero counts and the question does not arise.)
 //
 // Redundant parameters, held at the start robot's values: row 1 (alpha_1, a_1, theta_1, d_1), which the
 // base absorbs, and d_n, theta_n, which the tool absorbs (the marker's position is all that is
 // measured); and the tool's orientation, which a position cannot show. Frame 0 is then frame 1 at the
 // calibration configuration moved back through row 1: T_meas_0 = T_meas_1(q_cal) T_0^1(q_1,cal)^-1;
 // for the seed's zero row 1 and q_1,cal = 0 it is METHOD.md's "frame 0 is frame 1 at the calibration
-// configuration". theta_i = angle(X_{i-1}, X_i) - q_i,cal with q_cal the start robot's joint angles there
-// (its drives): exact for the seed, whose calibration configuration is at zero counts; otherwise the
-// ratio_regression stage that follows corrects theta for the identified ratios (its option `hold`).
+// configuration".
 #include <string>
 #include <vector>
 
@@ -47,6 +53,7 @@ struct GeometricSolution {
   std::vector<MdhRow> rows;          // identified table
   Eigen::Isometry3d T_meas_base = Eigen::Isometry3d::Identity();
   Eigen::Vector3d p_meas_marker = Eigen::Vector3d::Zero();  // marker at the calibration configuration
+  Eigen::VectorXd q_cal;             // actual joint angles there, measured on the arcs
   Eigen::VectorXd parameters;        // the MDH model's parameter vector (ParameterNames() order)
 };
 

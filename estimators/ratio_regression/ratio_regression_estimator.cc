@@ -6,7 +6,6 @@
 #include "estimators/geometric/geometric_estimator.h"
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
-#include "framework/prediction.h"
 
 namespace kincal {
 
@@ -14,10 +13,6 @@ using geometric::ArcFit;
 
 bool RatioRegressionEstimator::Options::IsValid(std::string* why) const {
   if (!arc.IsValid(why)) return false;
-  if (hold != "calibration" && hold != "encoder_zero") {
-    if (why) *why = "hold must be calibration or encoder_zero, got '" + hold + "'";
-    return false;
-  }
   return IsValidStddevMethod(stddev, bootstrap_samples, why);
 }
 
@@ -26,7 +21,6 @@ RatioRegressionEstimator::Options RatioRegressionEstimator::Options::FromYaml(co
   Options o;
   ReadArcFitOptions(&reader, &o.arc);
   reader.Get("marker", &o.marker);
-  reader.Get("hold", &o.hold);
   reader.Get("stddev", &o.stddev);
   reader.Get("bootstrap_samples", &o.bootstrap_samples);
   reader.Get("bootstrap_seed", &o.bootstrap_seed);
@@ -84,28 +78,6 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
   *identified = start;
   for (size_t k = 0; k < joints.size(); ++k) identified->drives->ratio[joints[k] - 1] = K[k];
 
-  // Keep the calibration configuration's pose (see the header).
-  nlohmann::json theta_shifts = nlohmann::json::array();
-  if (options_.hold == "calibration") {
-    const Measurement& cal = data.rows[sweeps.cal_row];
-    const Eigen::VectorXd before = ActualJointAngles(controller, start, cal);
-    const Eigen::VectorXd after = ActualJointAngles(controller, *identified, cal);
-    KinematicModel& model = identified->model();
-    for (int j : joints) {
-      const double shift = before[j - 1] - after[j - 1];
-      if (shift == 0.0) continue;
-      const std::string name = "theta_" + std::to_string(j);
-      if (model.FindParameter(name) < 0) {
-        report->warnings.push_back("the model has no " + name + " to keep the calibration pose; the pose at its "
-                                   "calibration configuration moved by " + std::to_string(shift) + " rad about joint " +
-                                   std::to_string(j));
-        continue;
-      }
-      model.SetParameter(name, model.Parameter(name) + shift);
-      theta_shifts.push_back({{"joint", j}, {"shift_rad", shift}});
-    }
-  }
-
   nlohmann::json per_joint = nlohmann::json::array();
   for (size_t k = 0; k < joints.size(); ++k) {
     const int j = joints[k];
@@ -141,9 +113,7 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
   }
   report->details = {{"circle_fit", geometric::ToString(options_.arc.circle_fit)},
                      {"motor_angle_from", data.HasEncoders() ? "encoder counts" : "commanded angles x controller ratio"},
-                     {"hold", options_.hold},
                      {"joints", per_joint},
-                     {"theta_shifts", theta_shifts},
                      {"stddev", {{"method", u.method},
                                  {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
                                  {"degrees_of_freedom", u.degrees_of_freedom},

@@ -10,11 +10,8 @@
 // exact one, the counts, the regressor, which keeps the slope free of errors-in-variables attenuation.
 // Without counts in the rows the motor angle is the one the controller commanded, K_controller q.
 //
-// Writes drives.ratio. With `hold: calibration` (default) each theta_i is also shifted so that the joint
-// angles of the calibration configuration, which change with the ratio when its counts are not zero,
-// still put the arm where the geometric stage measured it (geometric_solver.h); `hold: encoder_zero`
-// keeps theta, i.e. keeps the pose at zero counts (for offsets that came from elsewhere). For the seed's
-// protocol, which starts at zero counts, both are the same.
+// Writes drives.ratio and nothing else: joint offsets (theta) are referenced to the encoder zero, which a
+// new ratio does not move (the geometric stage measures them so, geometric_solver.h).
 //
 // Works alone (after `none`) or as the second stage of `geometric,ratio_regression`. Joints never swept
 // keep their ratio, with a warning.
@@ -31,7 +28,6 @@ class RatioRegressionEstimator final : public Estimator {
     // Arc fit (circle_fit, min_spread, min_curvature_ratio, max_iterations), as the geometric estimator.
     geometric::ArcFitOptions arc;
     std::string marker;                 // as the geometric estimator
-    std::string hold = "calibration";   // "calibration" or "encoder_zero", see above
     // Standard deviations: "propagation" (default), "bootstrap" or "none" (geometric/uncertainty.h).
     std::string stddev = "propagation";
     int bootstrap_samples = 200;
