@@ -29,11 +29,6 @@ struct Protocol {
   double step_deg;
 };
 
-struct Cell {
-  std::vector<double> errors;  // per seed: mean held-out error, m
-  int failures = 0;
-};
-
 double Mean(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
@@ -71,23 +66,28 @@ int main(int argc, char** argv) {
   const Dataset test = Simulate(nominal, truth, held_out);
   std::printf("held-out: 300 random poses within the nominal limits, noise-free; nominal robot's mean error %.4f mm\n",
               EvaluatePredictions(nominal, nominal, test).position_stats.mean * 1e3);
-  std::printf("identification: geometric,ratio_regression; mean over %d seeds of each run's mean held-out error, mm "
-              "(+- standard error); failures = runs refused as degenerate\n\n", seeds);
+  std::printf("identification: geometric,ratio_regression; mean over %d seeds of each run's mean held-out error, mm, "
+              "+- its standard error; in brackets the mean paired difference to the geometric fit on the same data\n\n",
+              seeds);
 
   const std::vector<Protocol> protocols = {{"20 x 2 deg", 20, 2.0}, {"20 x 6 deg", 20, 6.0}, {"36 x 10 deg", 36, 10.0}};
   const std::vector<double> noises = {0.01e-3, 0.1e-3};
   const std::vector<std::string> fits = {"kasa", "pratt", "taubin", "geometric"};
-  std::printf("%-12s %-9s", "protocol", "noise");
-  for (const auto& f : fits) std::printf(" %-22s", f.c_str());
+  std::printf("%-12s %-8s", "protocol", "noise");
+  for (const auto& f : fits) std::printf(" %-36s", f.c_str());
+  std::printf("\n%-21s", "");
+  for (size_t f = 0; f < fits.size(); ++f) std::printf(" %-36s", f + 1 < fits.size() ? "mean +- s.e. [paired vs geom.]" : "mean +- s.e.");
   std::printf("\n");
   for (const Protocol& protocol : protocols) {
     for (double noise : noises) {
-      std::printf("%-12s %-9s", protocol.name, (std::to_string(noise * 1e3).substr(0, 4) + " mm").c_str());
-      for (const std::string& fit : fits) {
+      std::printf("%-12s %-8s", protocol.name, (std::to_string(noise * 1e3).substr(0, 4) + " mm").c_str());
+      // errors[f][s]: NaN where the run was refused.
+      std::vector<std::vector<double>> errors(fits.size(), std::vector<double>(seeds, NAN));
+      std::vector<int> failures(fits.size(), 0);
+      for (size_t f = 0; f < fits.size(); ++f) {
         YAML::Node options;
-        options["circle_fit"] = fit;
+        options["circle_fit"] = fits[f];
         options["stddev"] = "none";
-        Cell cell;
         for (int s = 1; s <= seeds; ++s) {
           SimulatorOptions o;
           o.stops = protocol.stops;
@@ -99,18 +99,30 @@ int main(int argc, char** argv) {
           try {
             RunPipeline({"geometric", "ratio_regression"}, {options, options}, nominal, data, &identified);
           } catch (const std::invalid_argument&) {
-            ++cell.failures;
+            ++failures[f];
             continue;
           }
-          cell.errors.push_back(EvaluatePredictions(nominal, identified, test).position_stats.mean);
+          errors[f][s - 1] = EvaluatePredictions(nominal, identified, test).position_stats.mean;
         }
-        char text[64];
-        std::snprintf(text, sizeof(text), "%.4f +- %.4f%s", Mean(cell.errors) * 1e3, StdErr(cell.errors) * 1e3,
-                      cell.failures ? (" (" + std::to_string(cell.failures) + "f)").c_str() : "");
-        std::printf(" %-22s", text);
-        std::fflush(stdout);
+      }
+      const std::vector<double>& reference = errors.back();
+      for (size_t f = 0; f < fits.size(); ++f) {
+        std::vector<double> valid, paired;
+        for (int s = 0; s < seeds; ++s) {
+          if (std::isnan(errors[f][s])) continue;
+          valid.push_back(errors[f][s]);
+          if (!std::isnan(reference[s])) paired.push_back(errors[f][s] - reference[s]);
+        }
+        char text[96];
+        int used = std::snprintf(text, sizeof(text), "%.4f +- %.4f", Mean(valid) * 1e3, StdErr(valid) * 1e3);
+        if (f + 1 < fits.size()) {
+          used += std::snprintf(text + used, sizeof(text) - used, " [%+.4f +- %.4f]", Mean(paired) * 1e3, StdErr(paired) * 1e3);
+        }
+        if (failures[f]) std::snprintf(text + used, sizeof(text) - used, " (%d refused)", failures[f]);
+        std::printf(" %-36s", text);
       }
       std::printf("\n");
+      std::fflush(stdout);
     }
   }
   return 0;

@@ -11,7 +11,8 @@
 // frame; drives unchanged (the ratio_regression stage identifies them). The report lists the fitted axes
 // (point, direction), each fit's residual RMS, every parameter with a standard deviation
 // (uncertainty.h), the parallel pairs met (each also a warning) and the parameters held because they are
-// redundant with the base or the tool.
+// redundant with the base or the tool. The start robot's free mask is not used: the construction
+// determines every parameter the sweeps can show, and holds the rest at the start values.
 #include <cstdint>
 #include <string>
 
