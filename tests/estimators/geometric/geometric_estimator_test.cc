@@ -152,8 +152,12 @@ tool: {xyz: [0.05, 0.04, 0.08], rpy: [0, 0, 0]}
     EXPECT_TRUE(report.details["pairs"][2]["parallel"].get<bool>());
     for (const auto& p : report.parameters) {
       EXPECT_TRUE(std::isfinite(p.value)) << p.name;
-      if (p.free) EXPECT_TRUE(std::isfinite(p.stddev)) << p.name;
-      if (p.unit == "m") EXPECT_LT(std::abs(p.value), 2.0) << p.name;
+      if (p.free) {
+        EXPECT_TRUE(std::isfinite(p.stddev)) << p.name;
+      }
+      if (p.unit == "m") {
+        EXPECT_LT(std::abs(p.value), 2.0) << p.name;
+      }
     }
     const double error = EvaluatePredictions(nominal, identified, HeldOut(nominal, truth)).position_stats.max;
     std::printf("UR10-like, noise %g m: largest held-out error %.3g m\n", noise, error);
