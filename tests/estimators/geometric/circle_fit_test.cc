@@ -101,7 +101,9 @@ TEST(CircleFit, DefaultIsTheMostAccurateOnShortArcs) {
                   arc_deg, noise, kasa / noise, pratt / noise, taubin / noise, geometric / noise);
       EXPECT_LE(geometric, 1.01 * std::min(pratt, taubin));
       EXPECT_GE(kasa, 1.05 * geometric);
-      if (arc_deg == 20.0) EXPECT_GE(kasa, 1.9 * geometric);
+      if (arc_deg == 20.0) {
+        EXPECT_GE(kasa, 1.9 * geometric);
+      }
     }
   }
 }
