@@ -1,6 +1,8 @@
 // The registry of every estimator kincal knows. Adding an estimator: one Register() call here, its
 // target in estimators/CMakeLists.txt.
 #include "estimators/baseline/none_estimator.h"
+#include "estimators/geometric/geometric_estimator.h"
+#include "estimators/ratio_regression/ratio_regression_estimator.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -19,6 +21,10 @@ EstimatorRegistry::Factory FactoryOf() {
 EstimatorRegistry MakeRegistry() {
   EstimatorRegistry r;
   r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(), true, ""});
+  r.Register({"geometric", "circle point analysis: joint axes from swept arcs, MDH frames by common normals (seed, METHOD.md 2)",
+              FactoryOf<GeometricEstimator>(), true, ""});
+  r.Register({"ratio_regression", "reduction ratios from swept arcs and encoder counts (seed, METHOD.md 3)",
+              FactoryOf<RatioRegressionEstimator>(), true, ""});
   return r;
 }
 
