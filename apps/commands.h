@@ -10,5 +10,6 @@ void AddFkCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddMethodsCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
+void AddCompensateCommand(CLI::App& app);
 
 }  // namespace kincal::app

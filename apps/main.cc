@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   kincal::app::AddFkCommand(app);
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
+  kincal::app::AddCompensateCommand(app);
   kincal::app::AddMethodsCommand(app);
   try {
     app.parse(argc, argv);

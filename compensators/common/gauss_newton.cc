@@ -1,0 +1,200 @@
+#include "compensators/common/gauss_newton.h"
+
+#include <cmath>
+
+#include <Eigen/QR>
+
+namespace kincal {
+
+bool GaussNewtonOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(position_tolerance > 0) || !std::isfinite(position_tolerance)) return fail("position_tolerance must be > 0");
+  if (!(orientation_tolerance > 0) || !std::isfinite(orientation_tolerance)) {
+    return fail("orientation_tolerance must be > 0");
+  }
+  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
+  if (!(trust_radius > 0) || !std::isfinite(trust_radius)) return fail("trust_radius must be > 0");
+  if (max_step_halvings < 0 || max_step_halvings > 60) return fail("max_step_halvings must be in 0..60");
+  return true;
+}
+
+void GaussNewtonOptions::Read(OptionsReader* reader) {
+  reader->Get("max_iterations", &max_iterations);
+  reader->GetLength("position_tolerance", &position_tolerance);
+  reader->Get("orientation_tolerance", &orientation_tolerance);
+  reader->Get("singular_ratio", &singular_ratio);
+  reader->Get("trust_radius", &trust_radius);
+  reader->Get("max_step_halvings", &max_step_halvings);
+}
+
+DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& r,
+                                                   const GaussNewtonOptions& options, Eigen::VectorXd* dq) {
+  Step step;
+  const bool tall = A.rows() >= A.cols();
+  gradient_.noalias() = A.transpose() * r;
+  const double scale = A.norm() * r.norm();
+  step.gradient_ratio = scale > 0 ? gradient_.norm() / scale : 0.0;
+  if (options.singular_ratio <= 0.0) {
+    // The seed's Delta_theta = A^+ B: the minimum-norm least-squares solution, rank deficient or not.
+    *dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(r);
+    return step;
+  }
+  if (tall) {
+    G_.noalias() = A.transpose() * A;
+    g_ = gradient_;
+  } else {
+    G_.noalias() = A * A.transpose();
+    g_ = r;
+  }
+  const int k = static_cast<int>(G_.rows());
+  llt_.compute(G_);
+  if (llt_.info() == Eigen::Success) {
+    L_inverse_.setIdentity(k, k);
+    llt_.matrixL().solveInPlace(L_inverse_);
+    step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * L_inverse_.squaredNorm());
+  }
+  if (step.sigma_ratio < options.singular_ratio) {
+    eigen_.compute(G_, Eigen::ComputeEigenvectors);
+    const double lambda_max = std::max(eigen_.eigenvalues().maxCoeff(), 0.0);
+    const double lambda_min = std::max(eigen_.eigenvalues().minCoeff(), 0.0);
+    step.sigma_ratio = lambda_max > 0 ? std::sqrt(lambda_min / lambda_max) : 0.0;
+    if (step.sigma_ratio < options.singular_ratio) {
+      step.near_singular = true;
+      TrustRegionStep(A, tall, options.trust_radius, &step, dq);
+      return step;
+    }
+  }
+  y_ = llt_.solve(g_);
+  if (tall) {
+    *dq = y_;
+  } else {
+    dq->noalias() = A.transpose() * y_;
+  }
+  return step;
+}
+
+void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step,
+                                         Eigen::VectorXd* dq) {
+  const Eigen::VectorXd& lambda = eigen_.eigenvalues();
+  const Eigen::MatrixXd& V = eigen_.eigenvectors();
+  const int k = static_cast<int>(lambda.size());
+  c_.noalias() = V.transpose() * g_;
+  // Eigenvalues at rounding level carry no information: dropped from the undamped step (pseudo-inverse).
+  const double floor = std::max(lambda.maxCoeff(), 0.0) * k * 1e-15;
+  // |dq(mu)|^2 = sum_i w_i c_i^2 / (lambda_i + mu)^2, w_i = 1 (tall: dq = V y) or lambda_i (wide: dq = A^T V y).
+  const auto step_norm = [&](double mu) {
+    double sum = 0.0;
+    for (int i = 0; i < k; ++i) {
+      const double l = std::max(lambda[i], 0.0);
+      if (mu == 0.0 && l <= floor) continue;
+      const double y = c_[i] / (l + mu);
+      sum += (tall ? 1.0 : l) * y * y;
+    }
+    return std::sqrt(sum);
+  };
+  double mu = 0.0;
+  if (step_norm(0.0) > radius) {
+    // |dq(mu)| decreases monotonically; |dq(mu)| <= |g| / mu bounds the bracket. Bisection in log(mu).
+    double high = std::max(g_.norm() * (tall ? 1.0 : std::sqrt(std::max(lambda.maxCoeff(), 0.0))) / radius, 1e-300);
+    double low = high * 1e-30;
+    for (int i = 0; i < 200 && high > low * (1 + 1e-12); ++i) {
+      const double mid = std::sqrt(low * high);
+      (step_norm(mid) > radius ? low : high) = mid;
+    }
+    mu = high;
+    step->damped = true;
+  }
+  step->mu = mu;
+  y_.resize(k);
+  for (int i = 0; i < k; ++i) {
+    const double l = std::max(lambda[i], 0.0);
+    y_[i] = (mu == 0.0 && l <= floor) ? 0.0 : c_[i] / (l + mu);
+  }
+  const Eigen::VectorXd v = V * y_;
+  if (tall) {
+    *dq = v;
+  } else {
+    dq->noalias() = A.transpose() * v;
+  }
+}
+
+void RunGaussNewton(const PoseResidual& residual, const GaussNewtonOptions& o, CompensationResult* result) {
+  CompensationReport& report = result->report;
+  Eigen::VectorXd q = result->q_actual;
+  Eigen::VectorXd r, r_trial, dq, q_trial;
+  Eigen::MatrixXd A;
+  DampedLeastSquares solver;
+  DampedLeastSquares::Step last;
+  double pe = 0.0, oe = 0.0;
+  residual.Evaluate(q, &r, &pe, &oe);
+  double cost = r.squaredNorm();
+  report.position_history.reserve(o.max_iterations + 1);
+  report.orientation_history.reserve(o.max_iterations + 1);
+  report.position_history.push_back(pe);
+  report.orientation_history.push_back(oe);
+  report.iterations = 0;
+  while (true) {
+    if (pe <= o.position_tolerance && oe <= o.orientation_tolerance) {
+      report.status = CompensationStatus::kConverged;
+      break;
+    }
+    residual.Linearize(q, &A);
+    last = solver.Solve(A, r, o, &dq);
+    if (report.iterations >= o.max_iterations) {
+      if (last.gradient_ratio < 1e-6) {
+        report.status = CompensationStatus::kUnreachable;
+        report.message = "joint motion cannot reduce the error: the target is out of reach";
+      } else if (last.near_singular) {
+        report.status = CompensationStatus::kSingular;
+        report.message = "stopped near a singular configuration";
+      } else {
+        report.status = CompensationStatus::kIterationLimit;
+      }
+      break;
+    }
+    if (!dq.allFinite()) {
+      report.status = CompensationStatus::kFailed;
+      report.message = "non-finite step";
+      break;
+    }
+    double t = 1.0, pe_trial = 0.0, oe_trial = 0.0, cost_trial = 0.0;
+    bool accepted = false;
+    for (int halving = 0;; ++halving) {
+      q_trial = q + t * dq;
+      residual.Evaluate(q_trial, &r_trial, &pe_trial, &oe_trial);
+      cost_trial = r_trial.squaredNorm();
+      if (o.max_step_halvings == 0 || cost_trial < cost) {
+        accepted = true;
+        break;
+      }
+      if (halving == o.max_step_halvings) break;
+      t *= 0.5;
+    }
+    if (!accepted) {
+      // No step reduces |r|: a least-squares point, or the floating-point floor of a reachable target.
+      if (last.gradient_ratio < 1e-3) {
+        report.status = CompensationStatus::kUnreachable;
+        report.message = "the error has a local minimum here: the target is out of reach";
+      } else {
+        report.status = last.near_singular ? CompensationStatus::kSingular : CompensationStatus::kIterationLimit;
+        report.message = "no further decrease of the error (floating-point floor?)";
+      }
+      break;
+    }
+    q.swap(q_trial);
+    r.swap(r_trial);
+    cost = cost_trial;
+    pe = pe_trial;
+    oe = oe_trial;
+    ++report.iterations;
+    report.position_history.push_back(pe);
+    report.orientation_history.push_back(oe);
+  }
+  result->q_actual = q;
+}
+
+}  // namespace kincal
