@@ -31,11 +31,73 @@ void GaussNewtonOptions::Read(OptionsReader* reader) {
   reader->Get("max_step_halvings", &max_step_halvings);
 }
 
+namespace {
+
+// The systems here are 3x3 to 7x7: plain loops beat Eigen's blocked dynamic-size kernels, whose set-up
+// costs more than the arithmetic.
+
+// G = L L^T in place (lower triangle); false unless G is numerically positive definite.
+bool CholeskyInPlace(Eigen::MatrixXd* G) {
+  Eigen::MatrixXd& L = *G;
+  const int k = static_cast<int>(L.rows());
+  for (int j = 0; j < k; ++j) {
+    double d = L(j, j);
+    for (int p = 0; p < j; ++p) d -= L(j, p) * L(j, p);
+    if (!(d > 0)) return false;
+    d = std::sqrt(d);
+    L(j, j) = d;
+    for (int i = j + 1; i < k; ++i) {
+      double s = L(i, j);
+      for (int p = 0; p < j; ++p) s -= L(i, p) * L(j, p);
+      L(i, j) = s / d;
+    }
+  }
+  return true;
+}
+
+// |L^-1|_F^2 = trace(G^-1), column by column of L^-1 by forward substitution.
+double InverseTrace(const Eigen::MatrixXd& L) {
+  const int k = static_cast<int>(L.rows());
+  double sum = 0.0;
+  double x[64];
+  for (int c = 0; c < k; ++c) {
+    x[c] = 1.0 / L(c, c);
+    sum += x[c] * x[c];
+    for (int i = c + 1; i < k; ++i) {
+      double s = 0.0;
+      for (int p = c; p < i; ++p) s -= L(i, p) * x[p];
+      x[i] = s / L(i, i);
+      sum += x[i] * x[i];
+    }
+  }
+  return sum;
+}
+
+// Solves L L^T y = b in place.
+void CholeskySolveInPlace(const Eigen::MatrixXd& L, Eigen::VectorXd* b) {
+  Eigen::VectorXd& y = *b;
+  const int k = static_cast<int>(L.rows());
+  for (int i = 0; i < k; ++i) {
+    double s = y[i];
+    for (int p = 0; p < i; ++p) s -= L(i, p) * y[p];
+    y[i] = s / L(i, i);
+  }
+  for (int i = k - 1; i >= 0; --i) {
+    double s = y[i];
+    for (int p = i + 1; p < k; ++p) s -= L(p, i) * y[p];
+    y[i] = s / L(i, i);
+  }
+}
+
+}  // namespace
+
 DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& r,
                                                    const GaussNewtonOptions& options, Eigen::VectorXd* dq) {
   Step step;
-  const bool tall = A.rows() >= A.cols();
-  gradient_.noalias() = A.transpose() * r;
+  const int m = static_cast<int>(A.rows()), n = static_cast<int>(A.cols());
+  const bool tall = m >= n;
+  gradient_.resize(n);
+  for (int j = 0; j < n; ++j) gradient_[j] = A.col(j).dot(r);
   const double scale = A.norm() * r.norm();
   step.gradient_ratio = scale > 0 ? gradient_.norm() / scale : 0.0;
   if (options.singular_ratio <= 0.0) {
@@ -43,36 +105,35 @@ DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, con
     *dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(r);
     return step;
   }
-  if (tall) {
-    G_.noalias() = A.transpose() * A;
-    g_ = gradient_;
-  } else {
-    G_.noalias() = A * A.transpose();
-    g_ = r;
+  const int k = tall ? n : m;
+  G_.resize(k, k);
+  for (int j = 0; j < k; ++j) {
+    for (int i = j; i < k; ++i) {
+      G_(i, j) = G_(j, i) = tall ? A.col(i).dot(A.col(j)) : A.row(i).dot(A.row(j));
+    }
   }
-  const int k = static_cast<int>(G_.rows());
-  llt_.compute(G_);
-  if (llt_.info() == Eigen::Success) {
-    L_inverse_.setIdentity(k, k);
-    llt_.matrixL().solveInPlace(L_inverse_);
-    step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * L_inverse_.squaredNorm());
-  }
+  g_ = tall ? gradient_ : r;
+  L_ = G_;
+  const bool factored = k <= 64 && CholeskyInPlace(&L_);
+  if (factored) step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * InverseTrace(L_));
   if (step.sigma_ratio < options.singular_ratio) {
     eigen_.compute(G_, Eigen::ComputeEigenvectors);
     const double lambda_max = std::max(eigen_.eigenvalues().maxCoeff(), 0.0);
     const double lambda_min = std::max(eigen_.eigenvalues().minCoeff(), 0.0);
     step.sigma_ratio = lambda_max > 0 ? std::sqrt(lambda_min / lambda_max) : 0.0;
-    if (step.sigma_ratio < options.singular_ratio) {
-      step.near_singular = true;
+    if (step.sigma_ratio < options.singular_ratio || !factored) {
+      step.near_singular = step.sigma_ratio < options.singular_ratio;
       TrustRegionStep(A, tall, options.trust_radius, &step, dq);
       return step;
     }
   }
-  y_ = llt_.solve(g_);
+  y_ = g_;
+  CholeskySolveInPlace(L_, &y_);
   if (tall) {
     *dq = y_;
   } else {
-    dq->noalias() = A.transpose() * y_;
+    dq->resize(n);
+    for (int j = 0; j < n; ++j) (*dq)[j] = A.col(j).dot(y_);
   }
   return step;
 }

@@ -15,7 +15,6 @@
 #include <string>
 
 #include <Eigen/Core>
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "framework/compensator.h"
@@ -72,7 +71,8 @@ class DampedLeastSquares {
   // The exact singular values cost an eigen-decomposition; it is computed only when a cheap bound
   // cannot exclude a near-singular A. With G = A^T A (or A A^T for a wide A) of size k,
   //     cond(A)^2 = lambda_max(G) / lambda_min(G) <= trace(G) * trace(G^-1) <= k^2 cond(A)^2,
-  // and trace(G^-1) = |L^-1|_F^2 from the Cholesky factor G = L L^T the solve needs anyway.
+  // and trace(G^-1) = |L^-1|_F^2 from the Cholesky factor G = L L^T the solve needs anyway. (The
+  // eigen-decomposition path also catches a G too ill-conditioned for Cholesky.)
   Step Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& r, const GaussNewtonOptions& options,
              Eigen::VectorXd* dq);
 
@@ -80,9 +80,8 @@ class DampedLeastSquares {
   // Near-singular step from the eigen-decomposition of G: the smallest mu with |dq(mu)| <= radius.
   void TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step, Eigen::VectorXd* dq);
 
-  Eigen::MatrixXd G_, L_inverse_;
+  Eigen::MatrixXd G_, L_;
   Eigen::VectorXd g_, y_, c_, gradient_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen_;
 };
 

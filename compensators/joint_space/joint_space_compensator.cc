@@ -74,7 +74,7 @@ bool JointSpaceCompensator::Options::IsValid(std::string* why) const {
   }
   if (points < 2) return fail("points must be >= 2");
   if (interpolation != "linear" && interpolation != "cubic") return fail("interpolation must be linear or cubic");
-  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
+  if (!(max_correction > 0)) return fail("max_correction must be > 0");
   if (!(invariance_tolerance > 0)) return fail("invariance_tolerance must be > 0");
   if (!(max_table_bytes > 0)) return fail("max_table_bytes must be > 0");
   return true;
@@ -94,7 +94,7 @@ JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YA
   }
   reader.Get("points", &o.points);
   reader.Get("interpolation", &o.interpolation);
-  reader.Get("singular_ratio", &o.singular_ratio);
+  reader.Get("max_correction", &o.max_correction);
   reader.Get("invariance_tolerance", &o.invariance_tolerance);
   reader.Get("max_table_bytes", &o.max_table_bytes);
   reader.Finish();
@@ -107,7 +107,12 @@ void JointSpaceCompensator::DoPrepare() {
   const int n = nom.dof();
   interpolation_ = options_.interpolation == "linear" ? CorrectionTable::Interpolation::kLinear
                                                       : CorrectionTable::Interpolation::kCubic;
-  JacobianCompensator solver;
+  // Near singular configurations the exact solution can lie far along the near-null direction, on
+  // another branch than the neighbouring nodes; small trust steps keep the solve next to q_nom, and
+  // max_correction flags what still wanders.
+  JacobianCompensator::Options solver_options;
+  solver_options.iteration.trust_radius = 0.02;
+  JacobianCompensator solver(solver_options);
   solver.Prepare(nominal(), identified());
 
   std::vector<int> joints = options_.joints;
@@ -137,9 +142,7 @@ void JointSpaceCompensator::DoPrepare() {
   }
   for (int64_t node = 0; node < table_.num_nodes(); ++node) {
     table_.NodeJoints(node, &q);
-    if (!Correction(solver, nom, q, &dq) ||
-        (options_.singular_ratio > 0 &&
-         JacobianConditionRatio(identified().model(), q + dq, 0.5) < options_.singular_ratio)) {
+    if (!Correction(solver, nom, q, &dq) || dq.lpNorm<Eigen::Infinity>() > options_.max_correction) {
       table_.Flag(node);
     }
     std::copy(dq.data(), dq.data() + n, table_.values(node));

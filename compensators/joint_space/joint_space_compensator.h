@@ -33,12 +33,12 @@ class JointSpaceCompensator final : public Compensator {
     // Grid points per joint over the nominal robot's joint limits. Measured on the seed's arm, 4-D
     // table, random targets with |q5| >= 10 deg (max position / orientation error after compensation):
     // see README of compensators/joint_space and the benchmark; 17 points, cubic: 2.3 MB.
-    int points = 17;
+    int points = 16;
     // "linear" (multilinear, 2^d nodes per lookup) or "cubic" (Catmull-Rom, 4^d nodes).
-    std::string interpolation = "cubic";
-    // Nodes where sigma_min / sigma_max of the identified Jacobian (position rows in units of 0.5 m) is
-    // below this are flagged like unconverged ones: lookups next to them report kSingular.
-    double singular_ratio = 0.01;
+    std::string interpolation = "linear";
+    // rad: nodes whose correction exceeds this in any joint are flagged (near a singular configuration the
+    // exact correction may jump to another branch, which interpolation cannot follow).
+    double max_correction = 0.1;
     // rad: a joint is left off the grid (auto) when changing it changes the correction by less.
     double invariance_tolerance = 1e-9;
     // Refuse tables larger than this (bytes).
