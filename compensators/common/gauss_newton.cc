@@ -96,13 +96,17 @@ DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, con
   Step step;
   const int m = static_cast<int>(A.rows()), n = static_cast<int>(A.cols());
   const bool tall = m >= n;
-  gradient_.resize(n);
-  for (int j = 0; j < n; ++j) gradient_[j] = A.col(j).dot(r);
-  const double scale = A.norm() * r.norm();
-  step.gradient_ratio = scale > 0 ? gradient_.norm() / scale : 0.0;
+  residual_norm2_ = r.squaredNorm();
+  const double r_norm = std::sqrt(residual_norm2_);
+  const auto reducible = [&](const Eigen::VectorXd& undamped) {
+    fit_.noalias() = A * undamped;  // P r: the undamped step fits the part of r in the range of A
+    return r_norm > 0 ? fit_.norm() / r_norm : 0.0;
+  };
   if (options.singular_ratio <= 0.0) {
     // The seed's Delta_theta = A^+ B: the minimum-norm least-squares solution, rank deficient or not.
     *dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(r);
+    step.undamped_norm = dq->norm();
+    step.reducible_ratio = reducible(*dq);
     return step;
   }
   const int k = tall ? n : m;
@@ -112,7 +116,12 @@ DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, con
       G_(i, j) = G_(j, i) = tall ? A.col(i).dot(A.col(j)) : A.row(i).dot(A.row(j));
     }
   }
-  g_ = tall ? gradient_ : r;
+  if (tall) {
+    g_.resize(n);
+    for (int j = 0; j < n; ++j) g_[j] = A.col(j).dot(r);
+  } else {
+    g_ = r;
+  }
   L_ = G_;
   const bool factored = k <= 64 && CholeskyInPlace(&L_);
   if (factored) step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * InverseTrace(L_));
@@ -134,6 +143,13 @@ DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, con
   } else {
     dq->resize(n);
     for (int j = 0; j < n; ++j) (*dq)[j] = A.col(j).dot(y_);
+  }
+  step.undamped_norm = dq->norm();
+  step.reducible_ratio = reducible(*dq);
+  if (step.undamped_norm > options.trust_radius) {
+    // Far from the target (or a target out of reach): the linear model is not trusted that far.
+    eigen_.compute(G_, Eigen::ComputeEigenvectors);
+    TrustRegionStep(A, tall, options.trust_radius, &step, dq);
   }
   return step;
 }
@@ -158,7 +174,15 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
     return std::sqrt(sum);
   };
   double mu = 0.0;
-  if (step_norm(0.0) > radius) {
+  step->undamped_norm = step_norm(0.0);
+  // |P r|^2 = sum over informative eigenvalues of c_i^2 / lambda_i (tall: c = V^T A^T r) or c_i^2 (wide).
+  double fit2 = 0.0;
+  for (int i = 0; i < k; ++i) {
+    if (lambda[i] > floor) fit2 += tall ? c_[i] * c_[i] / lambda[i] : c_[i] * c_[i];
+  }
+  const double r_norm = tall ? std::sqrt(std::max(residual_norm2_, 0.0)) : g_.norm();
+  step->reducible_ratio = r_norm > 0 ? std::sqrt(fit2) / r_norm : 0.0;
+  if (step->undamped_norm > radius) {
     // |dq(mu)| decreases monotonically; |dq(mu)| <= |g| / mu bounds the bracket. Bisection in log(mu).
     double high = std::max(g_.norm() * (tall ? 1.0 : std::sqrt(std::max(lambda.maxCoeff(), 0.0))) / radius, 1e-300);
     double low = high * 1e-30;
@@ -206,7 +230,7 @@ void RunGaussNewton(const PoseResidual& residual, const GaussNewtonOptions& o, C
     residual.Linearize(q, &A);
     last = solver.Solve(A, r, o, &dq);
     if (report.iterations >= o.max_iterations) {
-      if (last.gradient_ratio < 1e-6) {
+      if (last.reducible_ratio < 0.1 || last.undamped_norm > 2 * M_PI) {
         report.status = CompensationStatus::kUnreachable;
         report.message = "joint motion cannot reduce the error: the target is out of reach";
       } else if (last.near_singular) {
@@ -237,12 +261,12 @@ void RunGaussNewton(const PoseResidual& residual, const GaussNewtonOptions& o, C
     }
     if (!accepted) {
       // No step reduces |r|: a least-squares point, or the floating-point floor of a reachable target.
-      if (last.gradient_ratio < 1e-3) {
+      if (last.reducible_ratio < 0.1 || last.undamped_norm > 2 * M_PI) {
         report.status = CompensationStatus::kUnreachable;
         report.message = "the error has a local minimum here: the target is out of reach";
       } else {
         report.status = last.near_singular ? CompensationStatus::kSingular : CompensationStatus::kIterationLimit;
-        report.message = "no further decrease of the error (floating-point floor?)";
+        report.message = "no step reduces the error further: the floating-point floor";
       }
       break;
     }

@@ -4,14 +4,16 @@
 //
 // Each step solves the linearization r(q + dq) ~ r(q) - A(q) dq in the least-squares sense. Away from
 // singular configurations that is the plain Gauss-Newton step (quadratic convergence). Near them
-// (rho = sigma_min / sigma_max of A below `singular_ratio`, detected from the singular values) the step
-// falls back to damped least squares,
+// (rho = sigma_min / sigma_max of A below `singular_ratio`, detected from the singular values) the
+// undamped step is the pseudo-inverse one without the directions whose singular values are at rounding
+// level, and it falls back to damped least squares,
 //     dq(mu) = (A^T A + mu I)^-1 A^T r,
 // with the smallest damping mu >= 0 that keeps |dq| within `trust_radius`: Levenberg-Marquardt in its
-// trust-region form (More 1978). The damping is therefore zero wherever the undamped step is already
-// short (a reachable target next to a singularity still converges quadratically) and grows only where
-// sigma_min is small and the residual points along it. A step that does not reduce |r| is halved (a
-// backtracking line search).
+// trust-region form (More 1978). The same limit applies to any step longer than the radius (a target far
+// from the seed, or out of reach). The damping is therefore zero wherever the undamped step is short (a
+// reachable target next to a singularity still converges quadratically) and grows only where sigma_min
+// is small and the residual points along it. A step that does not reduce |r| is halved (a backtracking
+// line search).
 #include <string>
 
 #include <Eigen/Core>
@@ -24,13 +26,13 @@ namespace kincal {
 
 struct GaussNewtonOptions {
   int max_iterations = 30;               // accepted steps
-  double position_tolerance = 1e-12;     // m: converged when the position error is at most this ...
-  double orientation_tolerance = 1e-12;  // rad: ... and the orientation error at most this
+  double position_tolerance = 1e-13;     // m: converged when the position error is at most this ...
+  double orientation_tolerance = 1e-13;  // rad: ... and the orientation error at most this
   // Near-singular when sigma_min / sigma_max of the (weighted) linearization falls below this ratio;
   // the step is then limited to trust_radius by damping. 0: never, every step is the plain
   // pseudo-inverse A^+ r (the seed's Delta_theta = A^+ B).
   double singular_ratio = 1e-3;
-  // rad, Euclidean norm of the joint step near singular configurations.
+  // rad: the longest joint step (Euclidean norm); longer undamped steps are damped to it.
   double trust_radius = 0.1;
   // Halvings tried when a step does not reduce |r|; 0 disables the line search (every step is taken,
   // as in the seed).
@@ -61,9 +63,13 @@ class DampedLeastSquares {
     double mu = 0.0;
     // sigma_min / sigma_max of A when it was computed, otherwise a proven lower bound of it.
     double sigma_ratio = 0.0;
-    // |A^T r| / (|A|_F |r|): the cosine-like share of r that joint motion can reduce to first order;
-    // 0 at a least-squares point that misses the target.
-    double gradient_ratio = 0.0;
+    // |P r| / |r|, P the projection onto the range of A (singular values at rounding level left out):
+    // the share of r that joint motion can reduce to first order; 0 at a least-squares point that
+    // misses the target.
+    double reducible_ratio = 0.0;
+    // |dq| of the undamped step (pseudo-inverse without rounding-level singular values): how far the
+    // linear model puts the solution.
+    double undamped_norm = 0.0;
   };
 
   // Solves for dq (resized).
@@ -81,14 +87,16 @@ class DampedLeastSquares {
   void TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step, Eigen::VectorXd* dq);
 
   Eigen::MatrixXd G_, L_;
-  Eigen::VectorXd g_, y_, c_, gradient_;
+  Eigen::VectorXd g_, y_, c_, fit_;
+  double residual_norm2_ = 0.0;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen_;
 };
 
 // Iterates from result->q_actual (the seed) and fills result->q_actual, the report's status, message,
 // iterations and histories. Status when the tolerances are not met:
-//   kUnreachable    no step reduces |r| any more, or joint motion cannot reduce r to first order
-//                   (gradient_ratio < 1e-6): a least-squares point that misses the target;
+//   kUnreachable    joint motion can hardly reduce the residual (reducible_ratio < 0.1), or the linear
+//                   model puts the solution more than a turn (2 pi rad) of joint motion away: at or
+//                   heading for a least-squares point that misses the target;
 //   kSingular       the last configuration is near singular (rho < singular_ratio);
 //   kIterationLimit otherwise; kFailed if a step is not finite.
 void RunGaussNewton(const PoseResidual& residual, const GaussNewtonOptions& options, CompensationResult* result);
