@@ -11,5 +11,6 @@ void AddSimulateCommand(CLI::App& app);
 void AddMethodsCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
 void AddConvertCommand(CLI::App& app);
+void AddCompensateCommand(CLI::App& app);
 
 }  // namespace kincal::app

@@ -1,6 +1,9 @@
 // The registry of every compensator kincal knows. Adding one: one Register() call here, its target in
 // compensators/CMakeLists.txt.
+#include "compensators/analytic_derivative/analytic_derivative_compensator.h"
 #include "compensators/baseline/none_compensator.h"
+#include "compensators/jacobian/jacobian_compensator.h"
+#include "compensators/joint_space/joint_space_compensator.h"
 #include "framework/compensator.h"
 
 namespace kincal {
@@ -19,6 +22,13 @@ CompensatorRegistry::Factory FactoryOf() {
 CompensatorRegistry MakeRegistry() {
   CompensatorRegistry r;
   r.Register({"none", "the controller's nominal joints, unchanged (baseline)", FactoryOf<NoneCompensator>(), true, ""});
+  r.Register({"analytic_derivative",
+              "the seed's 12-equation pose-matrix differential (METHOD.md 4), weighted, damped near singularities",
+              FactoryOf<AnalyticDerivativeCompensator>(), true, ""});
+  r.Register({"jacobian", "6-D pose error, geometric Jacobian, damped least squares near singularities",
+              FactoryOf<JacobianCompensator>(), true, ""});
+  r.Register({"joint_space", "interpolated table of joint corrections built offline (no iteration at run time)",
+              FactoryOf<JointSpaceCompensator>(), true, ""});
   return r;
 }
 

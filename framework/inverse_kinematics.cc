@@ -54,6 +54,21 @@ bool Descend(const KinematicModel& model, const Eigen::Isometry3d& target, bool 
   return false;
 }
 
+// Brings revolute joints into their limits by multiples of 2 pi where possible; true if all are inside.
+bool WrapIntoLimits(const Robot& robot, Eigen::VectorXd* q) {
+  bool inside = true;
+  for (int j = 0; j < q->size(); ++j) {
+    const auto [low, high] = robot.Limit(j);
+    double& v = (*q)[j];
+    if (robot.model().joint_type(j) == JointType::kRevolute && (v < low || v > high)) {
+      const double wrapped = low + std::fmod(std::fmod(v - low, 2 * M_PI) + 2 * M_PI, 2 * M_PI);
+      if (wrapped <= high) v = wrapped;
+    }
+    inside = inside && v >= low && v <= high;
+  }
+  return inside;
+}
+
 }  // namespace
 
 InverseKinematicsResult SolveInverseKinematics(const Robot& robot, const Eigen::Isometry3d& T_meas_tool,
@@ -64,6 +79,7 @@ InverseKinematicsResult SolveInverseKinematics(const Robot& robot, const Eigen::
   Rng rng(options.seed);
   Eigen::VectorXd best;
   double best_cost = INFINITY;
+  bool best_inside = false;
   for (int start = 0; start <= options.restarts; ++start) {
     Eigen::VectorXd q(n);
     if (start == 0 && initial.size() == n) {
@@ -77,18 +93,22 @@ InverseKinematicsResult SolveInverseKinematics(const Robot& robot, const Eigen::
     ++result.starts;
     double pe = INFINITY, oe = INFINITY;
     const bool ok = Descend(robot.model(), T_meas_tool, use_orientation, options, &q, &result.iterations, &pe, &oe);
+    if (!q.allFinite()) continue;
+    const bool inside = WrapIntoLimits(robot, &q);
     const double cost = pe + oe * options.length_scale;
-    if (q.allFinite() && cost < best_cost) {
+    // Preference: converged inside the limits, then converged outside, then the smallest error.
+    const bool better = ok ? (!result.converged || (inside && !best_inside)) : (!result.converged && cost < best_cost);
+    if (better) {
       best_cost = cost;
       best = q;
+      best_inside = inside;
+      result.converged = ok;
       result.position_error = pe;
       result.orientation_error = oe;
     }
-    if (ok) {
-      result.converged = true;
-      break;
-    }
+    if (ok && inside) break;
   }
+  result.within_limits = best_inside;
   result.q = best.size() == n ? best : Eigen::VectorXd::Zero(n);
   return result;
 }

@@ -1,7 +1,9 @@
 #pragma once
 // Numerical inverse kinematics of a model, for targets that carry no controller solution: damped least
 // squares on the 6-D pose error (position and rotation log), restarted from deterministic random
-// configurations within the joint limits until one converges.
+// configurations within the joint limits until one converges within the limits. Revolute joints are
+// wrapped by multiples of 2 pi into their limits where possible; a solution that stays outside them is
+// returned only when no start finds one inside (within_limits = false).
 #include <cstdint>
 #include <string>
 
@@ -26,6 +28,7 @@ struct InverseKinematicsOptions {
 struct InverseKinematicsResult {
   Eigen::VectorXd q;
   bool converged = false;
+  bool within_limits = false;
   int iterations = 0;      // over all starts
   int starts = 0;
   double position_error = NAN;

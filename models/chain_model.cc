@@ -145,9 +145,16 @@ std::vector<Eigen::Isometry3d> ChainModel::FramePoses(const Eigen::VectorXd& q) 
 }
 
 Matrix6Xd ChainModel::JointJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point) const {
+  Frame F;
+  return JacobianAndTool(q, p_tool_point, &F);
+}
+
+Matrix6Xd ChainModel::JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
+                                      Frame* tool) const {
   CheckJoints(q);
   Matrix6Xd J(6, dof());
-  Frame F;
+  Frame& F = *tool;
+  F = Frame();
   for (const Step& step : steps_) {
     if (step.joint < 0) {
       Apply(step.type, step.value, step.c, step.s, &F);
@@ -172,8 +179,9 @@ Matrix6Xd ChainModel::JointJacobian(const Eigen::VectorXd& q, const Eigen::Vecto
 }
 
 std::vector<Eigen::Matrix4d> ChainModel::PoseDerivatives(const Eigen::VectorXd& q) const {
-  const Matrix6Xd J = JointJacobian(q);
-  const Eigen::Matrix3d R = ForwardKinematics(q).linear();
+  Frame tool;
+  const Matrix6Xd J = JacobianAndTool(q, Eigen::Vector3d::Zero(), &tool);  // one pass: J and R_meas_tool
+  const Eigen::Matrix3d& R = tool.R;
   std::vector<Eigen::Matrix4d> dT(dof(), Eigen::Matrix4d::Zero());
   for (int i = 0; i < dof(); ++i) {
     dT[i].topLeftCorner<3, 3>() = Skew(J.col(i).tail<3>()) * R;

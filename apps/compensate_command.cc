@@ -1,0 +1,107 @@
+// kincal compensate --nominal N.yaml --identified I.yaml --targets T.csv --method NAME [--options O.yaml]
+//                   --out J.csv
+// Targets: x_mm,y_mm,z_mm (or _m), optionally qw,qx,qy,qz (without them: position-only targets) and
+// optionally the controller's nominal solution q1_deg..qN_deg (or _rad) as seeds; without seeds the
+// nominal inverse kinematics is solved per target (seed_computed = 1).
+// Output, one row per target in the same order (DESIGN.md "File contracts"): q1..qN in the targets' angle
+// unit (the robot file's without seed columns) = the joints to command to a controller that converts
+// with the nominal ratios; enc1..encN when the robots have drives; status, iterations, position_error
+// (targets' length unit), orientation_error_deg, seed_computed.
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "apps/cli_util.h"
+#include "apps/commands.h"
+#include "framework/atomic_file.h"
+#include "framework/compensator.h"
+#include "framework/dataset.h"
+#include "framework/error.h"
+#include "framework/robot_file.h"
+
+namespace kincal::app {
+namespace {
+
+std::vector<CompensationTarget> TargetsFrom(const Dataset& data, int dof) {
+  if (data.dof != 0 && data.dof != dof) {
+    ThrowInputError(data.source, 0, 0, "the targets have " + std::to_string(data.dof) +
+                                           " joint (seed) columns but the robot has " + std::to_string(dof) + " joints");
+  }
+  if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit()) {
+    ThrowInputError(data.source, 0, 0,
+                    "targets take x, y, z, optionally qw, qx, qy, qz and seeds q1..qN; enc, sweep, marker, session "
+                    "and split columns have no meaning here");
+  }
+  if (data.rows.empty()) ThrowInputError(data.source, 0, 0, "no targets");
+  std::vector<CompensationTarget> targets(data.rows.size());
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const Measurement& m = data.rows[i];
+    CompensationTarget& t = targets[i];
+    t.T_meas_tool.translation() = m.p;
+    t.has_orientation = m.orientation.has_value();
+    if (t.has_orientation) t.T_meas_tool.linear() = m.orientation->toRotationMatrix();
+    if (data.dof > 0) t.seed = m.q;
+  }
+  return targets;
+}
+
+}  // namespace
+
+void AddCompensateCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
+  struct Args {
+    std::string nominal, identified, targets, method, options, out;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")->required();
+  cmd->add_option("--identified", a->identified, "the identified (real) robot file")->required();
+  cmd->add_option("--targets", a->targets, "targets (CSV): x_mm,y_mm,z_mm[,qw,qx,qy,qz][,q1_deg..qN_deg seeds]")
+      ->required();
+  cmd->add_option("--method", a->method, "compensator (see kincal methods)")->required();
+  cmd->add_option("--options", a->options, "the compensator's options (YAML)");
+  cmd->add_option("--out", a->out, "joints to write (CSV)")->required();
+  cmd->callback([a]() {
+    const Robot nominal = ReadRobotFile(a->nominal);
+    const Robot identified = ReadRobotFile(a->identified);
+    Compensators().Get(a->method);  // an unknown name fails before any work
+    const Dataset data = ReadDataset(a->targets);
+    const std::vector<CompensationTarget> targets = TargetsFrom(data, nominal.dof());
+    std::unique_ptr<Compensator> compensator = Compensators().Create(a->method, LoadYamlFile(a->options));
+    compensator->Prepare(nominal, identified);
+
+    const int n = nominal.dof();
+    const bool drives = identified.drives.has_value();
+    const Unit angle = data.dof > 0 ? data.angle_unit : nominal.angle_unit;
+    const Unit length = data.length_unit;
+    const double deg = M_PI / 180.0;
+    std::map<std::string, int> counts;
+    double max_position = 0.0, max_orientation = 0.0;
+    std::ostringstream out;
+    for (int i = 1; i <= n; ++i) out << "q" << i << "_" << angle.name << ",";
+    if (drives) for (int i = 1; i <= n; ++i) out << "enc" << i << ",";
+    out << "status,iterations,position_error_" << length.name << ",orientation_error_deg,seed_computed\n";
+    for (const CompensationTarget& target : targets) {
+      const CompensationResult r = compensator->Compensate(target);
+      for (int i = 0; i < n; ++i) out << FormatExact(r.q_command[i] / angle.to_si) << ",";
+      for (int64_t e : r.encoders) out << e << ",";
+      out << ToString(r.report.status) << "," << r.report.iterations << ","
+          << FormatExact(r.report.position_error / length.to_si) << "," << FormatExact(r.report.orientation_error / deg)
+          << "," << (r.report.seed_computed ? 1 : 0) << "\n";
+      ++counts[ToString(r.report.status)];
+      max_position = std::max(max_position, r.report.position_error);
+      max_orientation = std::max(max_orientation, r.report.orientation_error);
+    }
+    WriteFileAtomically(a->out, out.str());
+    std::cout << a->method << ": " << targets.size() << " targets (";
+    bool first = true;
+    for (const auto& [status, count] : counts) {
+      std::cout << (first ? "" : ", ") << count << " " << status;
+      first = false;
+    }
+    std::cout << "), max position error " << max_position / length.to_si << " " << length.name
+              << ", max orientation error " << max_orientation / deg << " deg; wrote " << a->out << "\n";
+  });
+}
+
+}  // namespace kincal::app

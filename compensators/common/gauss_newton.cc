@@ -1,0 +1,285 @@
+#include "compensators/common/gauss_newton.h"
+
+#include <cmath>
+
+#include <Eigen/QR>
+
+namespace kincal {
+
+bool GaussNewtonOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(position_tolerance > 0) || !std::isfinite(position_tolerance)) return fail("position_tolerance must be > 0");
+  if (!(orientation_tolerance > 0) || !std::isfinite(orientation_tolerance)) {
+    return fail("orientation_tolerance must be > 0");
+  }
+  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
+  if (!(trust_radius > 0) || !std::isfinite(trust_radius)) return fail("trust_radius must be > 0");
+  if (max_step_halvings < 0 || max_step_halvings > 60) return fail("max_step_halvings must be in 0..60");
+  return true;
+}
+
+void GaussNewtonOptions::Read(OptionsReader* reader) {
+  reader->Get("max_iterations", &max_iterations);
+  reader->GetLength("position_tolerance", &position_tolerance);
+  reader->Get("orientation_tolerance", &orientation_tolerance);
+  reader->Get("singular_ratio", &singular_ratio);
+  reader->Get("trust_radius", &trust_radius);
+  reader->Get("max_step_halvings", &max_step_halvings);
+}
+
+namespace {
+
+// The systems here are 3x3 to 7x7: plain loops beat Eigen's blocked dynamic-size kernels, whose set-up
+// costs more than the arithmetic.
+
+// G = L L^T in place (lower triangle); false unless G is numerically positive definite.
+bool CholeskyInPlace(Eigen::MatrixXd* G) {
+  Eigen::MatrixXd& L = *G;
+  const int k = static_cast<int>(L.rows());
+  for (int j = 0; j < k; ++j) {
+    double d = L(j, j);
+    for (int p = 0; p < j; ++p) d -= L(j, p) * L(j, p);
+    if (!(d > 0)) return false;
+    d = std::sqrt(d);
+    L(j, j) = d;
+    for (int i = j + 1; i < k; ++i) {
+      double s = L(i, j);
+      for (int p = 0; p < j; ++p) s -= L(i, p) * L(j, p);
+      L(i, j) = s / d;
+    }
+  }
+  return true;
+}
+
+// |L^-1|_F^2 = trace(G^-1), column by column of L^-1 by forward substitution.
+double InverseTrace(const Eigen::MatrixXd& L) {
+  const int k = static_cast<int>(L.rows());
+  double sum = 0.0;
+  double x[64];
+  for (int c = 0; c < k; ++c) {
+    x[c] = 1.0 / L(c, c);
+    sum += x[c] * x[c];
+    for (int i = c + 1; i < k; ++i) {
+      double s = 0.0;
+      for (int p = c; p < i; ++p) s -= L(i, p) * x[p];
+      x[i] = s / L(i, i);
+      sum += x[i] * x[i];
+    }
+  }
+  return sum;
+}
+
+// Solves L L^T y = b in place.
+void CholeskySolveInPlace(const Eigen::MatrixXd& L, Eigen::VectorXd* b) {
+  Eigen::VectorXd& y = *b;
+  const int k = static_cast<int>(L.rows());
+  for (int i = 0; i < k; ++i) {
+    double s = y[i];
+    for (int p = 0; p < i; ++p) s -= L(i, p) * y[p];
+    y[i] = s / L(i, i);
+  }
+  for (int i = k - 1; i >= 0; --i) {
+    double s = y[i];
+    for (int p = i + 1; p < k; ++p) s -= L(p, i) * y[p];
+    y[i] = s / L(i, i);
+  }
+}
+
+}  // namespace
+
+DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& r,
+                                                   const GaussNewtonOptions& options, Eigen::VectorXd* dq) {
+  Step step;
+  const int m = static_cast<int>(A.rows()), n = static_cast<int>(A.cols());
+  const bool tall = m >= n;
+  residual_norm2_ = r.squaredNorm();
+  const double r_norm = std::sqrt(residual_norm2_);
+  const auto reducible = [&](const Eigen::VectorXd& undamped) {
+    fit_.noalias() = A * undamped;  // P r: the undamped step fits the part of r in the range of A
+    return r_norm > 0 ? fit_.norm() / r_norm : 0.0;
+  };
+  if (options.singular_ratio <= 0.0) {
+    // The seed's Delta_theta = A^+ B: the minimum-norm least-squares solution, rank deficient or not.
+    *dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(r);
+    step.undamped_norm = dq->norm();
+    step.reducible_ratio = reducible(*dq);
+    return step;
+  }
+  const int k = tall ? n : m;
+  G_.resize(k, k);
+  for (int j = 0; j < k; ++j) {
+    for (int i = j; i < k; ++i) {
+      G_(i, j) = G_(j, i) = tall ? A.col(i).dot(A.col(j)) : A.row(i).dot(A.row(j));
+    }
+  }
+  if (tall) {
+    g_.resize(n);
+    for (int j = 0; j < n; ++j) g_[j] = A.col(j).dot(r);
+  } else {
+    g_ = r;
+  }
+  L_ = G_;
+  const bool factored = k <= 64 && CholeskyInPlace(&L_);
+  if (factored) step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * InverseTrace(L_));
+  if (step.sigma_ratio < options.singular_ratio) {
+    eigen_.compute(G_, Eigen::ComputeEigenvectors);
+    const double lambda_max = std::max(eigen_.eigenvalues().maxCoeff(), 0.0);
+    const double lambda_min = std::max(eigen_.eigenvalues().minCoeff(), 0.0);
+    step.sigma_ratio = lambda_max > 0 ? std::sqrt(lambda_min / lambda_max) : 0.0;
+    if (step.sigma_ratio < options.singular_ratio || !factored) {
+      step.near_singular = step.sigma_ratio < options.singular_ratio;
+      TrustRegionStep(A, tall, options.trust_radius, &step, dq);
+      return step;
+    }
+  }
+  y_ = g_;
+  CholeskySolveInPlace(L_, &y_);
+  if (tall) {
+    *dq = y_;
+  } else {
+    dq->resize(n);
+    for (int j = 0; j < n; ++j) (*dq)[j] = A.col(j).dot(y_);
+  }
+  step.undamped_norm = dq->norm();
+  step.reducible_ratio = reducible(*dq);
+  if (step.undamped_norm > options.trust_radius) {
+    // Far from the target (or a target out of reach): the linear model is not trusted that far.
+    eigen_.compute(G_, Eigen::ComputeEigenvectors);
+    TrustRegionStep(A, tall, options.trust_radius, &step, dq);
+  }
+  return step;
+}
+
+void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step,
+                                         Eigen::VectorXd* dq) {
+  const Eigen::VectorXd& lambda = eigen_.eigenvalues();
+  const Eigen::MatrixXd& V = eigen_.eigenvectors();
+  const int k = static_cast<int>(lambda.size());
+  c_.noalias() = V.transpose() * g_;
+  // Eigenvalues at rounding level carry no information: dropped from the undamped step (pseudo-inverse).
+  const double floor = std::max(lambda.maxCoeff(), 0.0) * k * 1e-15;
+  // |dq(mu)|^2 = sum_i w_i c_i^2 / (lambda_i + mu)^2, w_i = 1 (tall: dq = V y) or lambda_i (wide: dq = A^T V y).
+  const auto step_norm = [&](double mu) {
+    double sum = 0.0;
+    for (int i = 0; i < k; ++i) {
+      const double l = std::max(lambda[i], 0.0);
+      if (mu == 0.0 && l <= floor) continue;
+      const double y = c_[i] / (l + mu);
+      sum += (tall ? 1.0 : l) * y * y;
+    }
+    return std::sqrt(sum);
+  };
+  double mu = 0.0;
+  step->undamped_norm = step_norm(0.0);
+  // |P r|^2 = sum over informative eigenvalues of c_i^2 / lambda_i (tall: c = V^T A^T r) or c_i^2 (wide).
+  double fit2 = 0.0;
+  for (int i = 0; i < k; ++i) {
+    if (lambda[i] > floor) fit2 += tall ? c_[i] * c_[i] / lambda[i] : c_[i] * c_[i];
+  }
+  const double r_norm = tall ? std::sqrt(std::max(residual_norm2_, 0.0)) : g_.norm();
+  step->reducible_ratio = r_norm > 0 ? std::sqrt(fit2) / r_norm : 0.0;
+  if (step->undamped_norm > radius) {
+    // |dq(mu)| decreases monotonically; |dq(mu)| <= |g| / mu bounds the bracket. Bisection in log(mu).
+    double high = std::max(g_.norm() * (tall ? 1.0 : std::sqrt(std::max(lambda.maxCoeff(), 0.0))) / radius, 1e-300);
+    double low = high * 1e-30;
+    for (int i = 0; i < 200 && high > low * (1 + 1e-12); ++i) {
+      const double mid = std::sqrt(low * high);
+      (step_norm(mid) > radius ? low : high) = mid;
+    }
+    mu = high;
+    step->damped = true;
+  }
+  step->mu = mu;
+  y_.resize(k);
+  for (int i = 0; i < k; ++i) {
+    const double l = std::max(lambda[i], 0.0);
+    y_[i] = (mu == 0.0 && l <= floor) ? 0.0 : c_[i] / (l + mu);
+  }
+  const Eigen::VectorXd v = V * y_;
+  if (tall) {
+    *dq = v;
+  } else {
+    dq->noalias() = A.transpose() * v;
+  }
+}
+
+void RunGaussNewton(const PoseResidual& residual, const GaussNewtonOptions& o, CompensationResult* result) {
+  CompensationReport& report = result->report;
+  Eigen::VectorXd q = result->q_actual;
+  Eigen::VectorXd r, r_trial, dq, q_trial;
+  Eigen::MatrixXd A;
+  DampedLeastSquares solver;
+  DampedLeastSquares::Step last;
+  double pe = 0.0, oe = 0.0;
+  residual.Evaluate(q, &r, &pe, &oe);
+  double cost = r.squaredNorm();
+  report.position_history.reserve(o.max_iterations + 1);
+  report.orientation_history.reserve(o.max_iterations + 1);
+  report.position_history.push_back(pe);
+  report.orientation_history.push_back(oe);
+  report.iterations = 0;
+  while (true) {
+    if (pe <= o.position_tolerance && oe <= o.orientation_tolerance) {
+      report.status = CompensationStatus::kConverged;
+      break;
+    }
+    residual.Linearize(q, &A);
+    last = solver.Solve(A, r, o, &dq);
+    if (report.iterations >= o.max_iterations) {
+      if (last.reducible_ratio < 0.1 || last.undamped_norm > 2 * M_PI) {
+        report.status = CompensationStatus::kUnreachable;
+        report.message = "joint motion cannot reduce the error: the target is out of reach";
+      } else if (last.near_singular) {
+        report.status = CompensationStatus::kSingular;
+        report.message = "stopped near a singular configuration";
+      } else {
+        report.status = CompensationStatus::kIterationLimit;
+      }
+      break;
+    }
+    if (!dq.allFinite()) {
+      report.status = CompensationStatus::kFailed;
+      report.message = "non-finite step";
+      break;
+    }
+    double t = 1.0, pe_trial = 0.0, oe_trial = 0.0, cost_trial = 0.0;
+    bool accepted = false;
+    for (int halving = 0;; ++halving) {
+      q_trial = q + t * dq;
+      residual.Evaluate(q_trial, &r_trial, &pe_trial, &oe_trial);
+      cost_trial = r_trial.squaredNorm();
+      if (o.max_step_halvings == 0 || cost_trial < cost) {
+        accepted = true;
+        break;
+      }
+      if (halving == o.max_step_halvings) break;
+      t *= 0.5;
+    }
+    if (!accepted) {
+      // No step reduces |r|: a least-squares point, or the floating-point floor of a reachable target.
+      if (last.reducible_ratio < 0.1 || last.undamped_norm > 2 * M_PI) {
+        report.status = CompensationStatus::kUnreachable;
+        report.message = "the error has a local minimum here: the target is out of reach";
+      } else {
+        report.status = last.near_singular ? CompensationStatus::kSingular : CompensationStatus::kIterationLimit;
+        report.message = "no step reduces the error further: the floating-point floor";
+      }
+      break;
+    }
+    q.swap(q_trial);
+    r.swap(r_trial);
+    cost = cost_trial;
+    pe = pe_trial;
+    oe = oe_trial;
+    ++report.iterations;
+    report.position_history.push_back(pe);
+    report.orientation_history.push_back(oe);
+  }
+  result->q_actual = q;
+}
+
+}  // namespace kincal

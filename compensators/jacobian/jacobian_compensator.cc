@@ -1,0 +1,76 @@
+#include "compensators/jacobian/jacobian_compensator.h"
+
+#include <cmath>
+
+#include "framework/math.h"
+
+namespace kincal {
+namespace {
+
+class TwistResidual final : public PoseResidual {
+ public:
+  TwistResidual(const KinematicModel& model, const CompensationTarget& target, double length_scale)
+      : model_(model), T_a_(target.T_meas_tool), position_only_(!target.has_orientation),
+        inverse_scale_(1.0 / length_scale) {}
+
+  void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
+                double* orientation_error) const override {
+    const Eigen::Isometry3d T_c = model_.ForwardKinematics(q);
+    const Eigen::Vector3d dp = T_a_.translation() - T_c.translation();
+    *position_error = dp.norm();
+    if (position_only_) {
+      *r = dp * inverse_scale_;
+      *orientation_error = 0.0;
+      return;
+    }
+    r->resize(6);
+    r->head<3>() = dp * inverse_scale_;
+    r->tail<3>() = RotationLog(T_a_.linear() * T_c.linear().transpose());
+    *orientation_error = r->tail<3>().norm();
+  }
+
+  void Linearize(const Eigen::VectorXd& q, Eigen::MatrixXd* A) const override {
+    const Matrix6Xd J = model_.JointJacobian(q);
+    if (position_only_) {
+      *A = J.topRows<3>() * inverse_scale_;
+      return;
+    }
+    *A = J;
+    A->topRows<3>() *= inverse_scale_;
+  }
+
+ private:
+  const KinematicModel& model_;
+  const Eigen::Isometry3d T_a_;
+  const bool position_only_;
+  const double inverse_scale_;
+};
+
+}  // namespace
+
+JacobianCompensator::JacobianCompensator() : JacobianCompensator(Options()) {}
+
+bool JacobianCompensator::Options::IsValid(std::string* why) const {
+  if (!(length_scale > 0) || !std::isfinite(length_scale)) {
+    if (why) *why = "length_scale must be a positive length";
+    return false;
+  }
+  return iteration.IsValid(why);
+}
+
+JacobianCompensator::Options JacobianCompensator::Options::FromYaml(const YAML::Node& node) {
+  Options o;
+  OptionsReader reader(node, "jacobian");
+  reader.GetLength("length_scale", &o.length_scale);
+  o.iteration.Read(&reader);
+  reader.Finish();
+  return o;
+}
+
+void JacobianCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& /*seed*/,
+                                       CompensationResult* result) const {
+  const TwistResidual residual(identified().model(), target, options_.length_scale);
+  RunGaussNewton(residual, options_.iteration, result);
+}
+
+}  // namespace kincal
