@@ -1,6 +1,7 @@
 // The registry of every estimator kincal knows. Adding an estimator: one Register() call here, its
 // target in estimators/CMakeLists.txt.
 #include "estimators/baseline/none_estimator.h"
+#include "estimators/least_squares/least_squares_estimator.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -19,6 +20,10 @@ EstimatorRegistry::Factory FactoryOf() {
 EstimatorRegistry MakeRegistry() {
   EstimatorRegistry r;
   r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(), true, ""});
+  r.Register({"least_squares",
+              "error model by our own Levenberg-Marquardt: every identifiable parameter, ratios, markers, session "
+              "bases; analytic Jacobians, robust loss, O(p^2) memory",
+              FactoryOf<LeastSquaresEstimator>(), true, ""});
   return r;
 }
 

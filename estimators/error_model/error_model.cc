@@ -35,6 +35,17 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
     held = held.Hold({index}, a.reasons[k], true);
   }
   prep.problem = std::make_unique<ErrorModelProblem>(held);
+  // The normal equations at the start, restricted to the identifiable columns (same x, same rows).
+  NormalEquations& initial = prep.initial;
+  initial = ne;
+  const std::vector<int>& keep = a.identifiable;
+  const int p = static_cast<int>(keep.size());
+  initial.JtJ.resize(p, p);
+  initial.Jtr.resize(p);
+  for (int i = 0; i < p; ++i) {
+    initial.Jtr[i] = ne.Jtr[keep[i]];
+    for (int j = 0; j < p; ++j) initial.JtJ(i, j) = ne.JtJ(keep[i], keep[j]);
+  }
   return prep;
 }
 
@@ -60,9 +71,13 @@ Covariance ComputeCovariance(const NormalEquations& ne, int p) {
 
 void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const RowWeighting& weighting,
                       Robot* identified, EstimationReport* report) {
+  FinishErrorModel(prep, x, AccumulateNormalEquations(*prep.problem, x, weighting), identified, report);
+}
+
+void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const NormalEquations& ne,
+                      Robot* identified, EstimationReport* report) {
   const ErrorModelProblem& problem = *prep.problem;
   problem.WriteToRobot(x, identified);
-  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting);
   const Covariance cov = ComputeCovariance(ne, problem.num_parameters());
 
   const ErrorModelProblem& p = problem;

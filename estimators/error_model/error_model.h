@@ -31,6 +31,7 @@ struct PreparedErrorModel {
   Robot start;                                  // the same with registered bases
   std::unique_ptr<ErrorModelProblem> problem;   // identifiable parameters free
   IdentifiabilityAnalysis identifiability;      // at the start, of the problem before holding
+  NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
   std::vector<std::string> warnings;
 };
 
@@ -50,6 +51,9 @@ Covariance ComputeCovariance(const NormalEquations& at_solution, int num_paramet
 // Writes the identified robot and fills the report's common fields (see above). Does not set status,
 // message or iterations.
 void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd& x, const RowWeighting& weighting,
+                      Robot* identified, EstimationReport* report);
+// The same when the caller already has the normal equations at x (saves one pass over the data).
+void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd& x, const NormalEquations& at_x,
                       Robot* identified, EstimationReport* report);
 
 }  // namespace kincal
