@@ -15,28 +15,27 @@ nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 }  // namespace
 
-PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,
-                                     const ErrorModelOptions& options, const RowWeighting& weighting) {
-  PreparedErrorModel prep;
-  prep.input = start;
-  prep.start = start;
-  // Validates everything (throws) before the registration runs on the data.
-  { const ErrorModelProblem check(start, controller, data, options); }
-  prep.warnings = InitializeBases(controller, data, options, &prep.start);
-  const ErrorModelProblem structural(prep.start, controller, data, options);
+namespace {
+
+// Builds the problem with every structurally free parameter from prep->start, analyses identifiability
+// at its start and holds what the data cannot determine.
+void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
+                    const RowWeighting& weighting, PreparedErrorModel* prep) {
+  const ErrorModelProblem structural(prep->start, controller, data, options);
   const NormalEquations ne = AccumulateNormalEquations(structural, structural.InitialX(), weighting);
-  prep.identifiability = AnalyzeIdentifiability(structural, ne.JtJ, ne.num_rows, options.identifiability_tolerance);
-  const IdentifiabilityAnalysis& a = prep.identifiability;
+  prep->identifiability = AnalyzeIdentifiability(structural, ne.JtJ, ne.num_rows, options.identifiability_tolerance);
+  const IdentifiabilityAnalysis& a = prep->identifiability;
   ErrorModelProblem held = structural;
   for (size_t k = 0; k < a.unidentifiable.size(); ++k) {
-    // Hold one at a time: indices refer to `structural`, so map each by name.
+    // Hold one at a time, each with its reason: indices refer to `structural`, so map each by name.
     const auto names = held.ParameterNames();
     const int index = static_cast<int>(std::find(names.begin(), names.end(), a.unidentifiable_names[k]) - names.begin());
     held = held.Hold({index}, a.reasons[k], true);
   }
-  prep.problem = std::make_unique<ErrorModelProblem>(held);
-  // The normal equations at the start, restricted to the identifiable columns (same x, same rows).
-  NormalEquations& initial = prep.initial;
+  prep->problem = std::make_unique<ErrorModelProblem>(held);
+  // The normal equations at the start, restricted to the identifiable columns (same x, same rows): the
+  // held problem lists the structural problem's parameters in the same order, minus the held ones.
+  NormalEquations& initial = prep->initial;
   initial = ne;
   const std::vector<int>& keep = a.identifiable;
   const int p = static_cast<int>(keep.size());
@@ -46,7 +45,50 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
     initial.Jtr[i] = ne.Jtr[keep[i]];
     for (int j = 0; j < p; ++j) initial.JtJ(i, j) = ne.JtJ(keep[i], keep[j]);
   }
+}
+
+}  // namespace
+
+PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,
+                                     const ErrorModelOptions& options, const RowWeighting& weighting) {
+  PreparedErrorModel prep;
+  prep.input = start;
+  prep.start = start;
+  // Validates everything (throws) before the registration runs on the data.
+  { const ErrorModelProblem check(start, controller, data, options); }
+  prep.warnings = InitializeBases(controller, data, options, &prep.start);
+  AnalyzeAndHold(controller, data, options, weighting, &prep);
   return prep;
+}
+
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
+                              PreparedErrorModel* prep, Eigen::VectorXd* x) {
+  const ErrorModelProblem& old = *prep->problem;
+  Robot at_solution;
+  old.WriteToRobot(solution, &at_solution);
+  PreparedErrorModel next;
+  next.input = prep->input;
+  next.start = at_solution;
+  next.warnings = prep->warnings;
+  AnalyzeAndHold(old.controller(), old.data(), old.options(), weighting, &next);
+  if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
+    *x = solution;
+    return false;
+  }
+  std::string freed, held;
+  for (const auto& name : prep->identifiability.unidentifiable_names) {
+    const auto& now = next.identifiability.unidentifiable_names;
+    if (std::find(now.begin(), now.end(), name) == now.end()) freed += " " + name;
+  }
+  for (const auto& name : next.identifiability.unidentifiable_names) {
+    const auto& before = prep->identifiability.unidentifiable_names;
+    if (std::find(before.begin(), before.end(), name) == before.end()) held += " " + name;
+  }
+  next.warnings.push_back("identifiability re-analysed at the first solution:" +
+                          (freed.empty() ? std::string() : " freed" + freed) + (held.empty() ? "" : ", held" + held));
+  *prep = std::move(next);
+  *x = prep->problem->InitialX();
+  return true;
 }
 
 Covariance ComputeCovariance(const NormalEquations& ne, int p) {

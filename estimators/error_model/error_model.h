@@ -3,7 +3,8 @@
 // only in how they minimise:
 //   1. PrepareErrorModel: register the bases in closed form (base_registration.h), build the problem,
 //      analyse identifiability at the start (identifiability.h) and hold what the data cannot determine.
-//   2. the estimator minimises sum_i w_i rho(|r_i(x)|^2) over x, from problem->InitialX().
+//   2. the estimator minimises sum_i w_i rho(|r_i(x)|^2) over x, from problem->InitialX(); then
+//      ReanalyzeIdentifiability at the solution and, when it frees parameters, minimises again.
 //   3. FinishErrorModel: write x into the identified robot; covariance sigma^2 (J^T W J)^-1 with
 //      sigma^2 = sum w rho' |r|^2 / (m - p) (m residuals, p free parameters; the Cramer-Rao bound for
 //      Gaussian noise when the weights are the inverse variances); fill the report: every parameter with
@@ -13,6 +14,7 @@
 //   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
 //   Eigen::VectorXd x = prep.problem->InitialX();
 //   ... minimise ...
+//   if (ReanalyzeIdentifiability(x, weighting, &prep, &x)) { ... minimise again ... }
 //   report->status = ...; report->iterations = ...; report->message = ...;
 //   FinishErrorModel(prep, x, weighting, identified, report);
 #include <memory>
@@ -38,6 +40,14 @@ struct PreparedErrorModel {
 // Throws std::invalid_argument for bad input (ErrorModelProblem's conditions).
 PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,
                                      const ErrorModelOptions& options, const RowWeighting& weighting = RowWeighting());
+
+// Re-analyses identifiability at `solution` (a minimiser of prep->problem). A start value can hide what
+// the data determine: a marker that starts on the last joint's axis makes that row's alpha and a look
+// redundant with the tool. When the identifiable set at the solution differs, prep is rebuilt from the
+// solution (prep->start becomes the solution robot), *x is its new InitialX() and the result is true: the
+// estimator minimises again. Otherwise *x = solution and the result is false. Costs one pass.
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
+                              PreparedErrorModel* prep, Eigen::VectorXd* x);
 
 struct Covariance {
   Eigen::MatrixXd matrix;    // p x p, sigma^2 (J^T W J)^-1, x's units

@@ -101,31 +101,37 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   for (const auto& id : marker_ids_) start.MarkerPosition(id);  // throws, naming the id
 
   const int rows = static_cast<int>(data.rows.size());
-  q_ref_.resize(static_cast<size_t>(rows) * n);
-  row_marker_.resize(rows);
-  row_session_.resize(rows);
-  row_orientation_.resize(rows);
+  auto per_row = std::make_shared<Rows>();
+  std::vector<double>& q_ref = per_row->q_ref;
+  std::vector<int>& row_marker = per_row->marker;
+  std::vector<int>& row_session = per_row->session;
+  std::vector<char>& row_orientation = per_row->orientation;
+  q_ref.resize(static_cast<size_t>(rows) * n);
+  row_marker.resize(rows);
+  row_session.resize(rows);
+  row_orientation.resize(rows);
   bool any_session0 = false, all_marked = true, any_orientation = false;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
     const Eigen::VectorXd q = ActualJointAngles(controller, start, m);
     if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
-    Eigen::Map<Eigen::VectorXd>(&q_ref_[static_cast<size_t>(i) * n], n) = q;
-    row_marker_[i] = m.marker.empty()
+    Eigen::Map<Eigen::VectorXd>(&q_ref[static_cast<size_t>(i) * n], n) = q;
+    row_marker[i] = m.marker.empty()
                          ? -1
                          : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
-    row_session_[i] = m.session == 0
+    row_session[i] = m.session == 0
                           ? -1
                           : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
-    row_orientation_[i] = m.orientation.has_value();
+    row_orientation[i] = m.orientation.has_value();
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
     }
     any_session0 |= m.session == 0;
     all_marked &= !m.marker.empty();
     any_orientation |= m.orientation.has_value();
-    num_residuals_ += RowResiduals(i);
+    num_residuals_ += m.orientation ? 6 : 3;
   }
+  rows_ = std::move(per_row);
 
   // The parameter through which each joint variable enters (its derivative is the joint's column).
   joint_parameter_.assign(n, -1);
@@ -340,9 +346,9 @@ std::vector<int> ErrorModelProblem::RowBlocks(int row) const {
   std::vector<int> out;
   if (geometry_block_ >= 0) out.push_back(geometry_block_);
   if (ratio_block_ >= 0) out.push_back(ratio_block_);
-  const int marker = row_marker_[row];
+  const int marker = rows_->marker[row];
   if (marker >= 0 && marker_block_[marker] >= 0) out.push_back(marker_block_[marker]);
-  const int session = row_session_[row];
+  const int session = rows_->session[row];
   if (session < 0 && base_block_ >= 0) out.push_back(base_block_);
   if (session >= 0 && session_block_[session] >= 0) out.push_back(session_block_[session]);
   return out;
@@ -430,9 +436,9 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   UpdateWorkspace(x, ws);
   const Measurement& m = data_->rows[row];
   const int n = start_.dof();
-  const Eigen::Map<const Eigen::VectorXd> q_ref(&q_ref_[static_cast<size_t>(row) * n], n);
+  const Eigen::Map<const Eigen::VectorXd> q_ref(&rows_->q_ref[static_cast<size_t>(row) * n], n);
   ws->q = q_ref.cwiseQuotient(ws->scale);
-  const int marker = row_marker_[row];
+  const int marker = rows_->marker[row];
   const Eigen::Vector3d point = marker >= 0 ? ws->markers[marker] : Eigen::Vector3d::Zero();
   Matrix6Xd& Jm = ws->J_model;
 
@@ -442,7 +448,7 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   } else {
     T_meas_tool = ws->model->ForwardKinematics(ws->q);
   }
-  const int session = row_session_[row];
+  const int session = rows_->session[row];
   if (session >= 0) {
     // T_meas(k)_tool = B_k B_0^-1 T_meas(0)_tool: derivatives rotate with it, the model base drops out.
     const Eigen::Isometry3d& M = ws->session_from_base0[session];
@@ -454,7 +460,7 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   }
   const Eigen::Vector3d p = T_meas_tool * point;
   residual->head<3>() = p - m.p;
-  const bool oriented = row_orientation_[row];
+  const bool oriented = rows_->orientation[row];
   Eigen::Matrix3d orientation_map;
   if (oriented) {
     const Eigen::Vector3d phi = RotationLog(T_meas_tool.linear() * m.orientation->toRotationMatrix().transpose());

@@ -140,7 +140,7 @@ class ErrorModelProblem {
   int num_parameters() const { return static_cast<int>(free_.size()); }
   int num_rows() const { return static_cast<int>(data_->rows.size()); }
   int num_residuals() const { return num_residuals_; }
-  int RowResiduals(int row) const { return row_orientation_[row] ? 6 : 3; }
+  int RowResiduals(int row) const { return rows_->orientation[row] ? 6 : 3; }
 
   const std::vector<ErrorModelParameter>& parameters() const { return free_; }
   // Every parameter the problem could free (free or held), in canonical order: the model's parameters,
@@ -191,11 +191,14 @@ class ErrorModelProblem {
   ErrorModelOptions options_;
   bool ratios_active_ = false;
 
-  // Per row: actual angles with the start's ratios (row-major, n per row), marker and session slots.
-  std::vector<double> q_ref_;
-  std::vector<int> row_marker_;   // index into marker_ids_, -1 for the tool origin
-  std::vector<int> row_session_;  // index into session_ids_, -1 for session 0
-  std::vector<char> row_orientation_;
+  // Per row, shared by copies (Hold) so that a million rows are stored once.
+  struct Rows {
+    std::vector<double> q_ref;     // actual angles with the start's ratios, n per row
+    std::vector<int> marker;       // index into marker_ids_, -1 for the tool origin
+    std::vector<int> session;      // index into session_ids_, -1 for session 0
+    std::vector<char> orientation;
+  };
+  std::shared_ptr<const Rows> rows_;
   std::vector<std::string> marker_ids_;
   std::vector<int> session_ids_;
   int num_residuals_ = 0;

@@ -72,6 +72,88 @@ double GradientCosine(const NormalEquations& ne) {
   return worst;
 }
 
+struct LmResult {
+  EstimationStatus status = EstimationStatus::kIterationLimit;
+  std::string message = "iteration limit reached";
+  int iterations = 0;
+  double lambda = 0.0;
+};
+
+// Levenberg-Marquardt from *x, where *ne holds the normal equations; both end at the solution.
+LmResult Minimize(const ErrorModelProblem& problem, const LeastSquaresOptions& options, const RowWeighting& weighting,
+                  int max_iterations, Eigen::VectorXd* x, NormalEquations* ne) {
+  LmResult out;
+  const Eigen::VectorXd scale = problem.CharacteristicScales();
+  const int p = problem.num_parameters();
+  double lambda = options.initial_damping;
+  double nu = 2.0;
+  if (p == 0) {
+    out.status = EstimationStatus::kConverged;
+    out.message = "no free parameter";
+    return out;
+  }
+  while (out.iterations < max_iterations) {
+    if (ne->cost == 0.0 || GradientCosine(*ne) <= options.gradient_tolerance) {
+      out.status = EstimationStatus::kConverged;
+      out.message = ne->cost == 0.0 ? "zero residual" : "gradient tolerance reached";
+      break;
+    }
+    ++out.iterations;
+    // Marquardt: damp each parameter in proportion to its own curvature, so units do not matter.
+    const Eigen::VectorXd D = ne->JtJ.diagonal().cwiseMax(1e-300);
+    Eigen::MatrixXd A = ne->JtJ;
+    A.diagonal() += lambda * D;
+    const Eigen::VectorXd d_inv = D.cwiseSqrt().cwiseInverse();
+    const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * A * d_inv.asDiagonal());
+    if (llt.info() != Eigen::Success) {
+      lambda = std::max(lambda * nu, 1e-12);
+      nu *= 2.0;
+      continue;
+    }
+    const Eigen::VectorXd dx = -(d_inv.asDiagonal() * llt.solve(d_inv.asDiagonal() * ne->Jtr)).eval();
+    const double step = dx.cwiseQuotient(scale).cwiseAbs().maxCoeff();
+    // Decrease of the cost predicted by the linearised model: -(2 dx.g + dx^T N dx).
+    const double predicted = -(2.0 * dx.dot(ne->Jtr) + dx.dot(ne->JtJ * dx));
+    const Eigen::VectorXd x_new = *x + dx;
+    NormalEquations ne_new = AccumulateNormalEquations(problem, x_new, weighting);
+    const double actual = ne->cost - ne_new.cost;
+    if (actual > 0.0 && std::isfinite(ne_new.cost)) {
+      const double rho = predicted > 0.0 ? actual / predicted : 1.0;
+      const double old_cost = ne->cost;
+      *x = x_new;
+      *ne = std::move(ne_new);
+      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      if (step <= options.parameter_tolerance) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "parameter tolerance reached";
+        break;
+      }
+      if (actual <= options.function_tolerance * old_cost) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "function tolerance reached";
+        break;
+      }
+    } else {
+      // No decrease: the cost is at its rounding level when the step is already negligible.
+      if (step <= options.parameter_tolerance || std::abs(actual) <= 1e-15 * ne->cost) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "no further decrease (cost at rounding level)";
+        break;
+      }
+      lambda = std::max(lambda * nu, 1e-12);
+      nu *= 2.0;
+      if (lambda > 1e16) {
+        out.status = EstimationStatus::kFailed;
+        out.message = "the damping grew without a decrease of the cost";
+        break;
+      }
+    }
+  }
+  out.lambda = lambda;
+  return out;
+}
+
 }  // namespace
 
 void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
@@ -81,88 +163,23 @@ void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controll
     throw std::invalid_argument("least_squares: " + std::to_string(weighting.weights.size()) + " weights for " +
                                 std::to_string(data.rows.size()) + " rows");
   }
-  const PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
-  const ErrorModelProblem& problem = *prep.problem;
-  const int p = problem.num_parameters();
-  const Eigen::VectorXd scale = problem.CharacteristicScales();
-
-  Eigen::VectorXd x = problem.InitialX();
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
+  Eigen::VectorXd x = prep.problem->InitialX();
   NormalEquations ne = prep.initial;
   const double initial_cost = ne.cost;
-  double lambda = options_.initial_damping;
-  double nu = 2.0;
-  int iterations = 0;
-  EstimationStatus status = EstimationStatus::kIterationLimit;
-  std::string message = "iteration limit reached";
-  if (p == 0) {
-    status = EstimationStatus::kConverged;
-    message = "no free parameter";
+  LmResult lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &ne);
+  int iterations = lm.iterations;
+  if (lm.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
+    ne = prep.initial;
+    lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations - iterations, &x, &ne);
+    iterations += lm.iterations;
   }
-  while (p > 0 && iterations < options_.max_iterations) {
-    if (ne.cost == 0.0 || GradientCosine(ne) <= options_.gradient_tolerance) {
-      status = EstimationStatus::kConverged;
-      message = ne.cost == 0.0 ? "zero residual" : "gradient tolerance reached";
-      break;
-    }
-    ++iterations;
-    // Marquardt: damp each parameter in proportion to its own curvature, so units do not matter.
-    const Eigen::VectorXd D = ne.JtJ.diagonal().cwiseMax(1e-300);
-    Eigen::MatrixXd A = ne.JtJ;
-    A.diagonal() += lambda * D;
-    const Eigen::VectorXd d_inv = D.cwiseSqrt().cwiseInverse();
-    const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * A * d_inv.asDiagonal());
-    if (llt.info() != Eigen::Success) {
-      lambda = std::max(lambda * nu, 1e-12);
-      nu *= 2.0;
-      continue;
-    }
-    const Eigen::VectorXd dx = -(d_inv.asDiagonal() * llt.solve(d_inv.asDiagonal() * ne.Jtr)).eval();
-    const double step = dx.cwiseQuotient(scale).cwiseAbs().maxCoeff();
-    // Decrease of the cost predicted by the linearised model: -(2 dx.g + dx^T N dx).
-    const double predicted = -(2.0 * dx.dot(ne.Jtr) + dx.dot(ne.JtJ * dx));
-    const Eigen::VectorXd x_new = x + dx;
-    NormalEquations ne_new = AccumulateNormalEquations(problem, x_new, weighting);
-    const double actual = ne.cost - ne_new.cost;
-    if (actual > 0.0 && std::isfinite(ne_new.cost)) {
-      const double rho = predicted > 0.0 ? actual / predicted : 1.0;
-      x = x_new;
-      const double old_cost = ne.cost;
-      ne = std::move(ne_new);
-      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-      nu = 2.0;
-      if (step <= options_.parameter_tolerance) {
-        status = EstimationStatus::kConverged;
-        message = "parameter tolerance reached";
-        break;
-      }
-      if (actual <= options_.function_tolerance * old_cost) {
-        status = EstimationStatus::kConverged;
-        message = "function tolerance reached";
-        break;
-      }
-    } else {
-      // No decrease: at the noise floor of the cost when the step is already negligible.
-      if (step <= options_.parameter_tolerance || std::abs(actual) <= 1e-15 * ne.cost) {
-        status = EstimationStatus::kConverged;
-        message = "no further decrease (cost at rounding level)";
-        break;
-      }
-      lambda = std::max(lambda * nu, 1e-12);
-      nu *= 2.0;
-      if (lambda > 1e16) {
-        status = EstimationStatus::kFailed;
-        message = "the damping grew without a decrease of the cost";
-        break;
-      }
-    }
-  }
-
-  report->status = status;
-  report->message = message;
+  report->status = lm.status;
+  report->message = lm.message;
   report->iterations = iterations;
   FinishErrorModel(prep, x, ne, identified, report);
   report->details["initial_cost_m2"] = initial_cost;
-  report->details["final_damping"] = lambda;
+  report->details["final_damping"] = lm.lambda;
   report->details["loss"] = options_.loss;
 }
 
