@@ -1,6 +1,7 @@
 // The registry of every estimator kincal knows. Adding an estimator: one Register() call here, its
 // target in estimators/CMakeLists.txt.
 #include "estimators/baseline/none_estimator.h"
+#include "estimators/ceres/ceres_estimator.h"
 #include "estimators/least_squares/least_squares_estimator.h"
 #include "framework/estimator.h"
 
@@ -24,6 +25,10 @@ EstimatorRegistry MakeRegistry() {
               "error model by our own Levenberg-Marquardt: every identifiable parameter, ratios, markers, session "
               "bases; analytic Jacobians, robust loss, O(p^2) memory",
               FactoryOf<LeastSquaresEstimator>(), true, ""});
+  r.Register({"ceres",
+              "error model by Ceres Solver (Levenberg-Marquardt, analytic Jacobians): dense QR, sparse normal Cholesky "
+              "(SuiteSparse) when sessions make it sparse; robust loss, weights",
+              FactoryOf<CeresEstimator>(), true, ""});
   return r;
 }
 
