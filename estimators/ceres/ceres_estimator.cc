@@ -1,5 +1,6 @@
 #include "estimators/ceres/ceres_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <ceres/ceres.h>
@@ -73,32 +74,32 @@ RowWeighting CeresOptions::Weighting() const {
   return w;
 }
 
-void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
-                                EstimationReport* report) const {
-  const RowWeighting weighting = options_.Weighting();
-  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
-    throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
-                                std::to_string(data.rows.size()) + " rows");
-  }
-  const PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
-  const ErrorModelProblem& problem = *prep.problem;
-  if (problem.num_parameters() == 0) {
-    report->status = EstimationStatus::kConverged;
-    report->message = "no free parameter";
-    report->iterations = 0;
-    FinishErrorModel(prep, problem.InitialX(), prep.initial, identified, report);
-    return;
-  }
+namespace {
 
-  CeresErrorModel model(problem, weighting, problem.InitialX());
+EstimationStatus StatusOf(const ceres::Solver::Summary& summary) {
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+    case ceres::USER_SUCCESS: return EstimationStatus::kConverged;
+    case ceres::NO_CONVERGENCE: return EstimationStatus::kIterationLimit;
+    case ceres::FAILURE:
+    case ceres::USER_FAILURE: return EstimationStatus::kFailed;
+  }
+  return EstimationStatus::kFailed;
+}
+
+// Minimises from *x (the problem's parameters) with up to max_iterations steps; *x ends at the solution.
+ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOptions& options,
+                                const RowWeighting& weighting, int max_iterations, Eigen::VectorXd* x,
+                                std::vector<std::string>* warnings) {
+  CeresErrorModel model(problem, weighting, *x);
   ceres::Solver::Options so;
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  std::string solver = options_.linear_solver;
+  std::string solver = options.linear_solver;
   if (solver == "auto") {
     solver = model.sessions_make_it_sparse() && SuiteSparseAvailable() ? "sparse_normal_cholesky" : "dense_qr";
     if (model.sessions_make_it_sparse() && !SuiteSparseAvailable()) {
-      report->warnings.push_back("ceres: SuiteSparse is not available; the sparse session problem is solved densely");
+      warnings->push_back("ceres: SuiteSparse is not available; the sparse session problem is solved densely");
     }
   }
   if (solver == "dense_qr") so.linear_solver_type = ceres::DENSE_QR;
@@ -107,34 +108,56 @@ void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   }
-  so.max_num_iterations = options_.max_iterations;
-  so.function_tolerance = options_.function_tolerance;
-  so.gradient_tolerance = options_.gradient_tolerance;
-  so.parameter_tolerance = options_.parameter_tolerance;
-  so.num_threads = options_.num_threads;
-  so.minimizer_progress_to_stdout = options_.verbose;
-  so.logging_type = options_.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = options.function_tolerance;
+  so.gradient_tolerance = options.gradient_tolerance;
+  so.parameter_tolerance = options.parameter_tolerance;
+  so.num_threads = options.num_threads;
+  so.minimizer_progress_to_stdout = options.verbose;
+  so.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &model.problem(), &summary);
+  *x = model.x();
+  return summary;
+}
 
-  switch (summary.termination_type) {
-    case ceres::CONVERGENCE:
-    case ceres::USER_SUCCESS: report->status = EstimationStatus::kConverged; break;
-    case ceres::NO_CONVERGENCE: report->status = EstimationStatus::kIterationLimit; break;
-    case ceres::FAILURE:
-    case ceres::USER_FAILURE: report->status = EstimationStatus::kFailed; break;
+}  // namespace
+
+void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                                EstimationReport* report) const {
+  const RowWeighting weighting = options_.Weighting();
+  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
+    throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
+                                std::to_string(data.rows.size()) + " rows");
   }
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
+  if (prep.problem->num_parameters() == 0) {
+    report->status = EstimationStatus::kConverged;
+    report->message = "no free parameter";
+    report->iterations = 0;
+    FinishErrorModel(prep, prep.problem->InitialX(), prep.initial, identified, report);
+    return;
+  }
+  Eigen::VectorXd x = prep.problem->InitialX();
+  ceres::Solver::Summary summary =
+      Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &report->warnings);
+  const double initial_cost = summary.initial_cost;
+  int iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  if (StatusOf(summary) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
+    summary = Minimize(*prep.problem, options_, weighting, std::max(0, options_.max_iterations - iterations), &x,
+                       &report->warnings);
+    iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+  }
+  report->status = StatusOf(summary);
   report->message = summary.message;
-  report->iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
-  FinishErrorModel(prep, model.x(), weighting, identified, report);
+  report->iterations = iterations;
+  FinishErrorModel(prep, x, weighting, identified, report);
 
   nlohmann::json& d = report->details;
   d["linear_solver"] = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   d["successful_steps"] = summary.num_successful_steps;
   d["unsuccessful_steps"] = summary.num_unsuccessful_steps;
-  d["initial_cost_m2"] = 2.0 * summary.initial_cost;  // Ceres' cost is half the sum
-  d["ceres_final_cost_m2"] = 2.0 * summary.final_cost;
+  d["initial_cost_m2"] = 2.0 * initial_cost;  // Ceres' cost is half the sum
   d["times_s"] = {{"total", summary.total_time_in_seconds},
                   {"preprocessor", summary.preprocessor_time_in_seconds},
                   {"minimizer", summary.minimizer_time_in_seconds},
