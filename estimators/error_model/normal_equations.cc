@@ -87,7 +87,7 @@ NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, cons
     out.cost += w * rho;
     out.irls_squares += w * rho_prime * s;
     out.position_squares += r.head<3>().squaredNorm();
-    out.num_residuals += k;
+    if (w > 0.0) out.num_residuals += k;
     if (!gradient) continue;
     const double sqrt_w = std::sqrt(w * rho_prime);
     if (filled + k > kBlockResiduals) flush();
