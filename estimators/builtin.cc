@@ -3,6 +3,7 @@
 #include "estimators/baseline/none_estimator.h"
 #include "estimators/ceres/ceres_estimator.h"
 #include "estimators/least_squares/least_squares_estimator.h"
+#include "estimators/nlopt/nlopt_estimator.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -29,6 +30,10 @@ EstimatorRegistry MakeRegistry() {
               "error model by Ceres Solver (Levenberg-Marquardt, analytic Jacobians): dense QR, sparse normal Cholesky "
               "(SuiteSparse) when sessions make it sparse; robust loss, weights",
               FactoryOf<CeresEstimator>(), true, ""});
+  r.Register({"nlopt",
+              "error model by NLopt within bounds on every parameter: SLSQP with exact gradients by default, any "
+              "bounded local algorithm by name (LN_BOBYQA derivative-free)",
+              FactoryOf<NloptEstimator>(), true, ""});
   return r;
 }
 

@@ -1,0 +1,203 @@
+#include "estimators/nlopt/nlopt_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <nlopt.hpp>
+
+namespace kincal {
+namespace {
+
+// Local algorithms that honour bound constraints (NLopt's documentation, "NLopt Algorithms").
+const std::vector<std::string>& SupportedAlgorithms() {
+  static const std::vector<std::string> names = {
+      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",    "LD_CCSAQ",        "LD_VAR1",
+      "LD_VAR2",   "LD_TNEWTON", "LD_TNEWTON_PRECOND_RESTART", "LN_BOBYQA", "LN_COBYLA",
+      "LN_NEWUOA_BOUND", "LN_NELDERMEAD", "LN_SBPLX"};
+  return names;
+}
+
+// f(y) = sum |r(x)|^2 / f_unit, x = x_start + s .* y; df/dy = 2 J^T r .* s / f_unit.
+class ScaledCost {
+ public:
+  ScaledCost(const ErrorModelProblem& problem, const Eigen::VectorXd& x_start, double f_unit)
+      : problem_(problem), x_start_(x_start), scale_(problem.CharacteristicScales()), f_unit_(f_unit) {}
+
+  Eigen::VectorXd X(const double* y) const {
+    return x_start_ + scale_.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(y, x_start_.size()));
+  }
+  Eigen::VectorXd Y(const Eigen::VectorXd& x) const { return (x - x_start_).cwiseQuotient(scale_); }
+
+  double operator()(const std::vector<double>& y, std::vector<double>& gradient) {
+    ++evaluations_;
+    const Eigen::VectorXd x = X(y.data());
+    const bool with_gradient = !gradient.empty();
+    const NormalEquations ne = AccumulateNormalEquations(problem_, x, RowWeighting(),
+                                                         with_gradient ? Accumulate::kGradient : Accumulate::kCost);
+    if (!std::isfinite(ne.cost)) return HUGE_VAL;
+    if (with_gradient) {
+      Eigen::Map<Eigen::VectorXd>(gradient.data(), x.size()) = (2.0 / f_unit_) * ne.Jtr.cwiseProduct(scale_);
+    }
+    return ne.cost / f_unit_;
+  }
+  static double Call(const std::vector<double>& y, std::vector<double>& gradient, void* self) {
+    return (*static_cast<ScaledCost*>(self))(y, gradient);
+  }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  const ErrorModelProblem& problem_;
+  Eigen::VectorXd x_start_;
+  Eigen::VectorXd scale_;
+  double f_unit_;
+  int evaluations_ = 0;
+};
+
+struct NloptRun {
+  EstimationStatus status = EstimationStatus::kFailed;
+  std::string message;
+  nlopt::result result = nlopt::FAILURE;
+  int evaluations = 0;
+  int parameters_at_bounds = 0;
+};
+
+std::string ResultName(nlopt::result r) {
+  switch (r) {
+    case nlopt::FAILURE: return "generic failure";
+    case nlopt::INVALID_ARGS: return "invalid arguments";
+    case nlopt::OUT_OF_MEMORY: return "out of memory";
+    case nlopt::ROUNDOFF_LIMITED: return "roundoff limited";
+    case nlopt::FORCED_STOP: return "forced stop";
+    case nlopt::SUCCESS: return "success";
+    case nlopt::STOPVAL_REACHED: return "stopval reached";
+    case nlopt::FTOL_REACHED: return "function tolerance reached";
+    case nlopt::XTOL_REACHED: return "parameter tolerance reached";
+    case nlopt::MAXEVAL_REACHED: return "evaluation limit reached";
+    case nlopt::MAXTIME_REACHED: return "time limit reached";
+    default: return "result " + std::to_string(static_cast<int>(r));
+  }
+}
+
+// Minimises from *x within the problem's bounds with at most max_evaluations passes; *x ends at the best
+// point NLopt found.
+NloptRun Minimize(const ErrorModelProblem& problem, const NloptOptions& options, double f_unit, int max_evaluations,
+                  Eigen::VectorXd* x) {
+  NloptRun run;
+  const int p = problem.num_parameters();
+  ScaledCost cost(problem, problem.InitialX(), f_unit);
+  Eigen::VectorXd lower, upper;
+  problem.Bounds(&lower, &upper);
+  const Eigen::VectorXd y_lower = cost.Y(lower), y_upper = cost.Y(upper);
+  nlopt::opt opt(options.algorithm.c_str(), static_cast<unsigned>(p));
+  opt.set_lower_bounds(std::vector<double>(y_lower.data(), y_lower.data() + p));
+  opt.set_upper_bounds(std::vector<double>(y_upper.data(), y_upper.data() + p));
+  opt.set_min_objective(&ScaledCost::Call, &cost);
+  opt.set_ftol_rel(options.function_tolerance);
+  opt.set_xtol_abs(options.parameter_tolerance);
+  opt.set_maxeval(std::max(1, max_evaluations));
+  if (options.max_time_seconds > 0.0) opt.set_maxtime(options.max_time_seconds);
+  const Eigen::VectorXd y0 = cost.Y(*x).cwiseMax(y_lower).cwiseMin(y_upper);
+  std::vector<double> y(y0.data(), y0.data() + p);
+  double f = 0.0;
+  try {
+    opt.optimize(y, f);
+  } catch (const std::exception&) {
+    // NLopt throws for its negative results; the code says which, and y holds the best point.
+  }
+  run.result = opt.last_optimize_result();
+  run.evaluations = cost.evaluations();
+  *x = cost.X(y.data());
+  for (int i = 0; i < p; ++i) run.parameters_at_bounds += (y[i] <= y_lower[i] || y[i] >= y_upper[i]);
+  switch (run.result) {
+    case nlopt::SUCCESS:
+    case nlopt::STOPVAL_REACHED:
+    case nlopt::FTOL_REACHED:
+    case nlopt::XTOL_REACHED: run.status = EstimationStatus::kConverged; break;
+    case nlopt::MAXEVAL_REACHED:
+    case nlopt::MAXTIME_REACHED: run.status = EstimationStatus::kIterationLimit; break;
+    default: run.status = EstimationStatus::kFailed; break;
+  }
+  run.message = options.algorithm + ": " + ResultName(run.result);
+  return run;
+}
+
+// The unit of the cost the optimiser sees: the mean curvature of the cost in the scaled variables at the
+// start, trace(2 S J^T J S) / p, so that the Gauss-Newton Hessian in y has eigenvalues around 1 and a
+// quasi-Newton method's initial identity Hessian is of the right size.
+double CostUnit(const PreparedErrorModel& prep) {
+  const Eigen::VectorXd s = prep.problem->CharacteristicScales();
+  const double mean = 2.0 * (prep.initial.JtJ.diagonal().cwiseProduct(s.cwiseAbs2())).mean();
+  return mean > 0.0 ? mean : 1.0;
+}
+
+}  // namespace
+
+bool NloptOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!error_model.IsValid(why)) return false;
+  const auto& names = SupportedAlgorithms();
+  if (std::find(names.begin(), names.end(), algorithm) == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    return fail("algorithm must be one of " + list + ", got '" + algorithm + "'");
+  }
+  if (max_evaluations < 1) return fail("max_evaluations must be >= 1");
+  if (!(max_time_seconds >= 0.0) || !std::isfinite(max_time_seconds)) return fail("max_time_seconds must be >= 0");
+  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
+  if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  return true;
+}
+
+NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
+  NloptOptions o;
+  OptionsReader reader(node, "nlopt");
+  o.error_model.Read(&reader);
+  reader.Get("algorithm", &o.algorithm);
+  reader.Get("max_evaluations", &o.max_evaluations);
+  reader.Get("max_time_seconds", &o.max_time_seconds);
+  reader.Get("function_tolerance", &o.function_tolerance);
+  reader.Get("parameter_tolerance", &o.parameter_tolerance);
+  reader.Finish();
+  return o;
+}
+
+void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                                EstimationReport* report) const {
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model);
+  Eigen::VectorXd x = prep.problem->InitialX();
+  if (prep.problem->num_parameters() == 0) {
+    report->status = EstimationStatus::kConverged;
+    report->message = "no free parameter";
+    report->iterations = 0;
+    FinishErrorModel(prep, x, prep.initial, identified, report);
+    return;
+  }
+  const double initial_cost = prep.initial.cost;
+  NloptRun run = Minimize(*prep.problem, options_, CostUnit(prep), options_.max_evaluations, &x);
+  int evaluations = run.evaluations;
+  if (run.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
+    run = Minimize(*prep.problem, options_, CostUnit(prep), options_.max_evaluations - evaluations, &x);
+    evaluations += run.evaluations;
+  }
+  report->status = run.status;
+  report->message = run.message;
+  report->iterations = evaluations;  // NLopt counts evaluations, not iterations
+  FinishErrorModel(prep, x, RowWeighting(), identified, report);
+  nlohmann::json& d = report->details;
+  d["algorithm"] = options_.algorithm;
+  d["nlopt_result"] = static_cast<int>(run.result);
+  d["evaluations"] = evaluations;
+  d["parameters_at_bounds"] = run.parameters_at_bounds;
+  d["initial_cost_m2"] = initial_cost;
+  if (run.parameters_at_bounds > 0) {
+    report->warnings.push_back("nlopt: " + std::to_string(run.parameters_at_bounds) +
+                               " parameter(s) ended on a bound: widen the bound_* options if the model allows");
+  }
+}
+
+}  // namespace kincal
