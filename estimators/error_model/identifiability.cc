@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 namespace kincal {
@@ -96,18 +97,44 @@ IdentifiabilityAnalysis AnalyzeIdentifiability(const ErrorModelProblem& problem,
     }
   }
   for (int j = 0; j < p; ++j) {
-    if (keep[j]) {
-      out.identifiable.push_back(j);
-    } else {
-      out.unidentifiable.push_back(j);
-      out.unidentifiable_names.push_back(params[j].name);
-      out.reasons.push_back(no_effect[j] ? "not identifiable: no effect on the measurements"
-                                         : "not identifiable: a combination of parameters kept before it");
+    if (keep[j]) out.identifiable.push_back(j);
+  }
+  // A held column is (nearly) a combination of kept ones: name the kept parameters that carry most of it,
+  // from the least-squares coefficients beta = S_KK^-1 S_Kj of the scaled Gram matrix.
+  const int L = static_cast<int>(out.identifiable.size());
+  Eigen::MatrixXd S_kept(L, L);
+  for (int a = 0; a < L; ++a) {
+    for (int b = 0; b < L; ++b) {
+      const int i = out.identifiable[a], j = out.identifiable[b];
+      S_kept(a, b) = JtJ(i, j) / (norms[i] * norms[j]);
     }
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(S_kept);
+  for (int j = 0; j < p; ++j) {
+    if (keep[j]) continue;
+    out.unidentifiable.push_back(j);
+    out.unidentifiable_names.push_back(params[j].name);
+    if (no_effect[j] || L == 0) {
+      out.reasons.push_back("not identifiable: no effect on the measurements");
+      continue;
+    }
+    Eigen::VectorXd column(L);
+    for (int a = 0; a < L; ++a) column[a] = JtJ(out.identifiable[a], j) / (norms[out.identifiable[a]] * norms[j]);
+    const Eigen::VectorXd beta = ldlt.solve(column);
+    std::vector<int> order_by_weight(L);
+    std::iota(order_by_weight.begin(), order_by_weight.end(), 0);
+    std::stable_sort(order_by_weight.begin(), order_by_weight.end(),
+                     [&](int a, int b) { return std::abs(beta[a]) > std::abs(beta[b]); });
+    std::string with;
+    for (int k = 0; k < std::min(L, 4); ++k) {
+      const int a = order_by_weight[k];
+      if (!(std::abs(beta[a]) >= 0.1 * std::abs(beta[order_by_weight[0]]))) break;
+      with += (with.empty() ? "" : ", ") + params[out.identifiable[a]].name;
+    }
+    out.reasons.push_back("not identifiable: redundant with " + with);
   }
   out.rank = static_cast<int>(out.identifiable.size());
 
-  const int L = out.rank;
   Eigen::MatrixXd S(L, L), C(L, L);
   for (int a = 0; a < L; ++a) {
     for (int b = 0; b < L; ++b) {

@@ -46,7 +46,9 @@ struct IdentifiabilityAnalysis {
   std::vector<int> identifiable;                 // indices into the analysed problem's x
   std::vector<int> unidentifiable;
   std::vector<std::string> unidentifiable_names;
-  std::vector<std::string> reasons;              // per unidentifiable parameter
+  // Per unidentifiable parameter: "no effect on the measurements", or "redundant with" the kept parameters
+  // that carry most of its column (largest least-squares coefficients in the scaled basis).
+  std::vector<std::string> reasons;
   int rank = 0;
   double condition_number = 0.0;                 // of the column-normalised J, identifiable columns
   Eigen::VectorXd singular_values;               // same matrix, descending

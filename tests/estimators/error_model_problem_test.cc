@@ -295,6 +295,12 @@ TEST(Identifiability, SeedArmHoldsTheFirstRowAndTheLastOffsetAgainstTheTool) {
   const PreparedErrorModel prep = PrepareErrorModel(nominal, nominal, data, ErrorModelOptions());
   const std::vector<std::string> expected = {"alpha_1", "a_1", "theta_1", "d_1", "theta_6", "d_6"};
   EXPECT_EQ(prep.identifiability.unidentifiable_names, expected);
+  // Each names what it is redundant with.
+  const auto& reasons = prep.identifiability.reasons;
+  EXPECT_NE(reasons[2].find("base_yaw"), std::string::npos) << reasons[2];   // theta_1
+  EXPECT_NE(reasons[3].find("base_z"), std::string::npos) << reasons[3];     // d_1
+  EXPECT_NE(reasons[4].find("tool_x"), std::string::npos) << reasons[4];     // theta_6
+  EXPECT_NE(reasons[5].find("tool_z"), std::string::npos) << reasons[5];     // d_6
   // 24 joint + 6 base + 3 tool positions + 6 ratios, minus the six above.
   EXPECT_EQ(prep.problem->num_parameters(), 33);
   EXPECT_GT(prep.identifiability.condition_number, 1.0);
