@@ -2,6 +2,7 @@
 // target in estimators/CMakeLists.txt.
 #include "estimators/baseline/none_estimator.h"
 #include "estimators/ceres/ceres_estimator.h"
+#include "estimators/ipopt/ipopt_estimator.h"
 #include "estimators/least_squares/least_squares_estimator.h"
 #include "estimators/nlopt/nlopt_estimator.h"
 #include "framework/estimator.h"
@@ -34,6 +35,10 @@ EstimatorRegistry MakeRegistry() {
               "error model by NLopt within bounds on every parameter: SLSQP with exact gradients by default, any "
               "bounded local algorithm by name (LN_BOBYQA derivative-free)",
               FactoryOf<NloptEstimator>(), true, ""});
+  r.Register({"ipopt",
+              "error model by Ipopt (interior point) within bounds on every parameter: exact gradients, Gauss-Newton "
+              "or limited-memory Hessian",
+              FactoryOf<IpoptEstimator>(), true, ""});
   return r;
 }
 
