@@ -58,6 +58,7 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   { const ErrorModelProblem check(start, controller, data, options); }
   prep.warnings = InitializeBases(controller, data, options, &prep.start);
   AnalyzeAndHold(controller, data, options, weighting, &prep);
+  prep.registered_rms = prep.initial.PositionRms();
   return prep;
 }
 
@@ -70,6 +71,7 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
   next.input = prep->input;
   next.start = at_solution;
   next.warnings = prep->warnings;
+  next.registered_rms = prep->registered_rms;
   AnalyzeAndHold(old.controller(), old.data(), old.options(), weighting, &next);
   if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
     *x = solution;
@@ -174,6 +176,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["degrees_of_freedom"] = cov.degrees_of_freedom;
   d["sigma_m"] = Finite(cov.sigma);
   d["cost"] = ne.cost;
+  d["registered_start_rms_m"] = Finite(prep.registered_rms);
   d["rank"] = a.rank;
   d["observability"] = {{"O1", a.observability.o1}, {"O2", a.observability.o2}, {"O3", a.observability.o3},
                         {"O4", a.observability.o4}, {"O5", a.observability.o5},

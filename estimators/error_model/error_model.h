@@ -17,6 +17,7 @@
 //   if (ReanalyzeIdentifiability(x, weighting, &prep, &x)) { ... minimise again ... }
 //   report->status = ...; report->iterations = ...; report->message = ...;
 //   FinishErrorModel(prep, x, weighting, identified, report);
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,7 @@ struct PreparedErrorModel {
   std::unique_ptr<ErrorModelProblem> problem;   // identifiable parameters free
   IdentifiabilityAnalysis identifiability;      // at the start, of the problem before holding
   NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
+  double registered_rms = NAN;                  // position RMS of the start once the bases are registered, m
   std::vector<std::string> warnings;
 };
 
