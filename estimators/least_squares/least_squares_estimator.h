@@ -18,8 +18,8 @@ struct LeastSquaresOptions {
   ErrorModelOptions error_model;       // the shared keys (error_model_problem.h)
   int max_iterations = 50;             // passes over the data that propose a step
   // Stop when an accepted step changes no parameter by more than parameter_tolerance times its
-  // characteristic scale (1 mm, 1 mrad, 1e-3 ratio scale): 1e-10 is 0.1 nm.
-  double parameter_tolerance = 1e-10;
+  // characteristic scale (1 mm, 1 mrad, 1e-3 ratio scale): 1e-8 is 10 pm, below any instrument.
+  double parameter_tolerance = 1e-8;
   // Stop when an accepted step lowers the cost by less than this fraction of it.
   double function_tolerance = 1e-14;
   // Stop when every column of J is orthogonal to the residuals to within this cosine.
