@@ -3,10 +3,11 @@
 // implementation of an interior-point filter line-search algorithm for large-scale nonlinear
 // programming", Math. Prog. 106, 2006) within bounds on every parameter. The cost is the plain sum of
 // squared residuals f(x) = sum_i |r_i(x)|^2 with its exact gradient 2 J^T r; the Hessian is either the
-// Gauss-Newton matrix 2 J^T J (exact for the sum of squares up to the residual-weighted second
-// derivatives, which vanish at a zero-residual fit: Newton's convergence on calibration data) or
-// Ipopt's limited-memory BFGS. All are accumulated row by row (normal_equations.h): memory does not grow
-// with the poses. As for `nlopt`, Ipopt sees y = (x - x_start) / s (s: CharacteristicScales, 1 mm, 1 mrad,
+// Gauss-Newton matrix 2 J^T J (the exact Hessian less sum_k r_k Hess(r_k), which vanishes with the
+// residuals: quadratic convergence on calibration data, about 10 iterations) or Ipopt's quasi-Newton
+// BFGS in compact limited-memory form (with a history as long as the iteration limit, so that it keeps
+// every update: about 70 iterations). All are accumulated row by row (normal_equations.h): memory does
+// not grow with the poses. As for `nlopt`, Ipopt sees y = (x - x_start) / s (s: CharacteristicScales, 1 mm, 1 mrad,
 // 1e-3) and the cost in units of its mean curvature in y at the start, bounds from ErrorModelBounds
 // around the start; bases are registered and what the data cannot determine is held before solving, and
 // the report comes from the shared helpers (error_model.h).

@@ -109,7 +109,11 @@ NloptRun Minimize(const ErrorModelProblem& problem, const NloptOptions& options,
   run.result = opt.last_optimize_result();
   run.evaluations = cost.evaluations();
   *x = cost.X(y.data());
-  for (int i = 0; i < p; ++i) run.parameters_at_bounds += (y[i] <= y_lower[i] || y[i] >= y_upper[i]);
+  // "On a bound": within a millionth of the bound's width (as the ipopt estimator counts them).
+  for (int i = 0; i < p; ++i) {
+    const double margin = 1e-6 * (y_upper[i] - y_lower[i]);
+    run.parameters_at_bounds += (y[i] <= y_lower[i] + margin || y[i] >= y_upper[i] - margin);
+  }
   switch (run.result) {
     case nlopt::SUCCESS:
     case nlopt::STOPVAL_REACHED:

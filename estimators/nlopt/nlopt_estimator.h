@@ -32,7 +32,9 @@ struct NloptOptions {
   // LD_TNEWTON, LD_TNEWTON_PRECOND_RESTART (gradient-based, exact gradients), LN_BOBYQA, LN_COBYLA,
   // LN_NEWUOA_BOUND, LN_NELDERMEAD, LN_SBPLX (derivative-free).
   std::string algorithm = "LD_SLSQP";
-  int max_evaluations = 5000;          // cost (and gradient) evaluations: passes over the data
+  // Cost (and gradient) evaluations, each a pass over the data. SLSQP needs about 100; the derivative-free
+  // BOBYQA about 250 per free parameter.
+  int max_evaluations = 20000;
   double max_time_seconds = 0.0;       // 0: no limit
   // Stop when a step changes the cost by less than this fraction of it (NLopt ftol_rel).
   double function_tolerance = 1e-15;
