@@ -1,26 +1,21 @@
 #pragma once
-// The error model as an Ipopt TNLP: n = the problem's free parameters in scaled variables
-// y = (x - x_start) / s, no constraints (m = 0), bounds from ErrorModelProblem::Bounds, objective
-// f(y) = sum |r|^2 / f_unit, gradient 2 s .* J^T r / f_unit, Hessian (dense lower triangle) the
-// Gauss-Newton 2 S J^T J S / f_unit. Ipopt asks for f, its gradient and the Hessian at the same point in
+// The error model as an Ipopt TNLP: n = the problem's free parameters in the scaled variables y of
+// scaled_error_model.h, no constraints (m = 0), its bounds, objective f(y) = sum |r|^2 / f_unit, gradient
+// 2 s .* J^T r / f_unit, Hessian (dense lower triangle) the Gauss-Newton 2 S J^T J S / f_unit. Ipopt asks for f, its gradient and the Hessian at the same point in
 // turn, so the last pass over the data is cached with what it computed (cost < gradient < normal
 // equations) and a request reuses it when it asks for no more.
 #include <coin/IpTNLP.hpp>
 
 #include <Eigen/Core>
 
-#include "estimators/error_model/error_model_problem.h"
-#include "estimators/error_model/normal_equations.h"
+#include "estimators/bounded/scaled_error_model.h"
 
 namespace kincal {
 
 class ErrorModelNlp final : public Ipopt::TNLP {
  public:
-  // `problem` must outlive the NLP. f_unit > 0.
-  ErrorModelNlp(const ErrorModelProblem& problem, double f_unit);
-
-  Eigen::VectorXd X(const double* y) const;
-  Eigen::VectorXd Y(const Eigen::VectorXd& x) const;
+  // `model` (and its problem) must outlive the NLP.
+  explicit ErrorModelNlp(const ScaledErrorModel& model);
 
   // The point finalize_solution received (x units), and Ipopt's verdict.
   const Eigen::VectorXd& solution() const { return solution_; }
@@ -51,9 +46,7 @@ class ErrorModelNlp final : public Ipopt::TNLP {
   // Makes the cache hold at least `what` at y; false when the cost is not finite.
   bool Ensure(const Ipopt::Number* y, Accumulate what);
 
-  const ErrorModelProblem& problem_;
-  Eigen::VectorXd x_start_, scale_, y_lower_, y_upper_;
-  double f_unit_;
+  const ScaledErrorModel& model_;
   Eigen::VectorXd cached_y_;
   int cached_level_ = -1;  // static_cast<int>(Accumulate) of what the cache holds, -1: nothing
   NormalEquations cached_;

@@ -11,14 +11,6 @@
 namespace kincal {
 namespace {
 
-// The mean curvature of the cost in the scaled variables at the start, trace(2 S J^T J S) / p: the unit
-// that makes the Gauss-Newton Hessian in y O(1) (as in nlopt_estimator.cc).
-double CostUnit(const PreparedErrorModel& prep) {
-  const Eigen::VectorXd s = prep.problem->CharacteristicScales();
-  const double mean = 2.0 * (prep.initial.JtJ.diagonal().cwiseProduct(s.cwiseAbs2())).mean();
-  return mean > 0.0 ? mean : 1.0;
-}
-
 std::string ReturnName(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
     case Ipopt::Solve_Succeeded: return "solved";
@@ -52,9 +44,10 @@ struct IpoptRun {
   int parameters_at_bounds = 0;
 };
 
-// Minimises from the problem's start within its bounds; *x ends at Ipopt's final point.
-IpoptRun Minimize(const ErrorModelProblem& problem, const IpoptOptions& options, double f_unit, int max_iterations,
-                  Eigen::VectorXd* x) {
+// Minimises from the prepared problem's start within the bounds (`bounds` by name, see
+// scaled_error_model.h); *x ends at Ipopt's final point.
+IpoptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const IpoptOptions& options,
+                  int max_iterations, Eigen::VectorXd* x) {
   IpoptRun run;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& o = *app->Options();
@@ -74,7 +67,8 @@ IpoptRun Minimize(const ErrorModelProblem& problem, const IpoptOptions& options,
     run.status = Ipopt::Invalid_Option;
     return run;
   }
-  Ipopt::SmartPtr<ErrorModelNlp> nlp = new ErrorModelNlp(problem, f_unit);
+  const ScaledErrorModel model(*prep.problem, prep.initial, bounds);
+  Ipopt::SmartPtr<ErrorModelNlp> nlp = new ErrorModelNlp(model);
   run.status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
   if (Ipopt::IsValid(app->Statistics())) run.iterations = app->Statistics()->IterationCount();
   run.passes = nlp->passes();
@@ -126,10 +120,11 @@ void IpoptEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     return;
   }
   const double initial_cost = prep.initial.cost;
-  IpoptRun run = Minimize(*prep.problem, options_, CostUnit(prep), options_.max_iterations, &x);
+  const NamedBounds bounds = BoundsByName(*prep.problem);
+  IpoptRun run = Minimize(prep, bounds, options_, options_.max_iterations, &x);
   int iterations = run.iterations, passes = run.passes;
   if (StatusOf(run.status) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
-    run = Minimize(*prep.problem, options_, CostUnit(prep), std::max(0, options_.max_iterations - iterations), &x);
+    run = Minimize(prep, bounds, options_, std::max(0, options_.max_iterations - iterations), &x);
     iterations += run.iterations;
     passes += run.passes;
   }

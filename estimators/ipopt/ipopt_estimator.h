@@ -7,10 +7,9 @@
 // residuals: quadratic convergence on calibration data, about 10 iterations) or Ipopt's quasi-Newton
 // BFGS in compact limited-memory form (with a history as long as the iteration limit, so that it keeps
 // every update: about 70 iterations). All are accumulated row by row (normal_equations.h): memory does
-// not grow with the poses. As for `nlopt`, Ipopt sees y = (x - x_start) / s (s: CharacteristicScales, 1 mm, 1 mrad,
-// 1e-3) and the cost in units of its mean curvature in y at the start, bounds from ErrorModelBounds
-// around the start; bases are registered and what the data cannot determine is held before solving, and
-// the report comes from the shared helpers (error_model.h).
+// not grow with the poses. As for `nlopt`, Ipopt sees scaled variables and cost within bounds on every
+// parameter (estimators/bounded/scaled_error_model.h); bases are registered and what the data cannot
+// determine is held before solving, and the report comes from the shared helpers (error_model.h).
 //
 // Ipopt 3.11's C++ TNLP interface; the linear solver is the one Ipopt was built with (MUMPS on Debian).
 // Ipopt's console output is silenced unless print_level > 0. MUMPS (sequential) keeps global state: do not

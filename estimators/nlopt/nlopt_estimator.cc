@@ -7,6 +7,8 @@
 
 #include <nlopt.hpp>
 
+#include "estimators/bounded/scaled_error_model.h"
+
 namespace kincal {
 namespace {
 
@@ -19,39 +21,25 @@ const std::vector<std::string>& SupportedAlgorithms() {
   return names;
 }
 
-// f(y) = sum |r(x)|^2 / f_unit, x = x_start + s .* y; df/dy = 2 J^T r .* s / f_unit.
-class ScaledCost {
+// NLopt's objective: the scaled cost and, when NLopt asks for it, its gradient (scaled_error_model.h).
+class Objective {
  public:
-  ScaledCost(const ErrorModelProblem& problem, const Eigen::VectorXd& x_start, double f_unit)
-      : problem_(problem), x_start_(x_start), scale_(problem.CharacteristicScales()), f_unit_(f_unit) {}
-
-  Eigen::VectorXd X(const double* y) const {
-    return x_start_ + scale_.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(y, x_start_.size()));
-  }
-  Eigen::VectorXd Y(const Eigen::VectorXd& x) const { return (x - x_start_).cwiseQuotient(scale_); }
-
-  double operator()(const std::vector<double>& y, std::vector<double>& gradient) {
-    ++evaluations_;
-    const Eigen::VectorXd x = X(y.data());
-    const bool with_gradient = !gradient.empty();
-    const NormalEquations ne = AccumulateNormalEquations(problem_, x, RowWeighting(),
-                                                         with_gradient ? Accumulate::kGradient : Accumulate::kCost);
-    if (!std::isfinite(ne.cost)) return HUGE_VAL;
-    if (with_gradient) {
-      Eigen::Map<Eigen::VectorXd>(gradient.data(), x.size()) = (2.0 / f_unit_) * ne.Jtr.cwiseProduct(scale_);
-    }
-    return ne.cost / f_unit_;
-  }
+  explicit Objective(const ScaledErrorModel& model) : model_(model) {}
   static double Call(const std::vector<double>& y, std::vector<double>& gradient, void* self) {
-    return (*static_cast<ScaledCost*>(self))(y, gradient);
+    return static_cast<Objective*>(self)->Evaluate(y, gradient);
   }
   int evaluations() const { return evaluations_; }
 
  private:
-  const ErrorModelProblem& problem_;
-  Eigen::VectorXd x_start_;
-  Eigen::VectorXd scale_;
-  double f_unit_;
+  double Evaluate(const std::vector<double>& y, std::vector<double>& gradient) {
+    ++evaluations_;
+    const bool with_gradient = !gradient.empty();
+    const NormalEquations ne = model_.Evaluate(y.data(), with_gradient ? Accumulate::kGradient : Accumulate::kCost);
+    if (!std::isfinite(ne.cost)) return HUGE_VAL;
+    if (with_gradient) Eigen::Map<Eigen::VectorXd>(gradient.data(), model_.size()) = model_.Gradient(ne);
+    return model_.Cost(ne);
+  }
+  const ScaledErrorModel& model_;
   int evaluations_ = 0;
 };
 
@@ -80,26 +68,23 @@ std::string ResultName(nlopt::result r) {
   }
 }
 
-// Minimises from *x within the problem's bounds with at most max_evaluations passes; *x ends at the best
-// point NLopt found.
-NloptRun Minimize(const ErrorModelProblem& problem, const NloptOptions& options, double f_unit, int max_evaluations,
-                  Eigen::VectorXd* x) {
+// Minimises from the prepared problem's start within the bounds (`bounds` by name, see
+// scaled_error_model.h) with at most max_evaluations passes; *x ends at the best point NLopt found.
+NloptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const NloptOptions& options,
+                  int max_evaluations, Eigen::VectorXd* x) {
   NloptRun run;
-  const int p = problem.num_parameters();
-  ScaledCost cost(problem, problem.InitialX(), f_unit);
-  Eigen::VectorXd lower, upper;
-  problem.Bounds(&lower, &upper);
-  const Eigen::VectorXd y_lower = cost.Y(lower), y_upper = cost.Y(upper);
+  const ScaledErrorModel model(*prep.problem, prep.initial, bounds);
+  const int p = model.size();
+  Objective objective(model);
   nlopt::opt opt(options.algorithm.c_str(), static_cast<unsigned>(p));
-  opt.set_lower_bounds(std::vector<double>(y_lower.data(), y_lower.data() + p));
-  opt.set_upper_bounds(std::vector<double>(y_upper.data(), y_upper.data() + p));
-  opt.set_min_objective(&ScaledCost::Call, &cost);
+  opt.set_lower_bounds(std::vector<double>(model.y_lower().data(), model.y_lower().data() + p));
+  opt.set_upper_bounds(std::vector<double>(model.y_upper().data(), model.y_upper().data() + p));
+  opt.set_min_objective(&Objective::Call, &objective);
   opt.set_ftol_rel(options.function_tolerance);
   opt.set_xtol_abs(options.parameter_tolerance);
   opt.set_maxeval(std::max(1, max_evaluations));
   if (options.max_time_seconds > 0.0) opt.set_maxtime(options.max_time_seconds);
-  const Eigen::VectorXd y0 = cost.Y(*x).cwiseMax(y_lower).cwiseMin(y_upper);
-  std::vector<double> y(y0.data(), y0.data() + p);
+  std::vector<double> y(p, 0.0);
   double f = 0.0;
   try {
     opt.optimize(y, f);
@@ -107,13 +92,9 @@ NloptRun Minimize(const ErrorModelProblem& problem, const NloptOptions& options,
     // NLopt throws for its negative results; the code says which, and y holds the best point.
   }
   run.result = opt.last_optimize_result();
-  run.evaluations = cost.evaluations();
-  *x = cost.X(y.data());
-  // "On a bound": within a millionth of the bound's width (as the ipopt estimator counts them).
-  for (int i = 0; i < p; ++i) {
-    const double margin = 1e-6 * (y_upper[i] - y_lower[i]);
-    run.parameters_at_bounds += (y[i] <= y_lower[i] + margin || y[i] >= y_upper[i] - margin);
-  }
+  run.evaluations = objective.evaluations();
+  run.parameters_at_bounds = model.CountAtBounds(y.data());
+  *x = model.X(y.data());
   switch (run.result) {
     case nlopt::SUCCESS:
     case nlopt::STOPVAL_REACHED:
@@ -125,15 +106,6 @@ NloptRun Minimize(const ErrorModelProblem& problem, const NloptOptions& options,
   }
   run.message = options.algorithm + ": " + ResultName(run.result);
   return run;
-}
-
-// The unit of the cost the optimiser sees: the mean curvature of the cost in the scaled variables at the
-// start, trace(2 S J^T J S) / p, so that the Gauss-Newton Hessian in y has eigenvalues around 1 and a
-// quasi-Newton method's initial identity Hessian is of the right size.
-double CostUnit(const PreparedErrorModel& prep) {
-  const Eigen::VectorXd s = prep.problem->CharacteristicScales();
-  const double mean = 2.0 * (prep.initial.JtJ.diagonal().cwiseProduct(s.cwiseAbs2())).mean();
-  return mean > 0.0 ? mean : 1.0;
 }
 
 }  // namespace
@@ -182,10 +154,11 @@ void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     return;
   }
   const double initial_cost = prep.initial.cost;
-  NloptRun run = Minimize(*prep.problem, options_, CostUnit(prep), options_.max_evaluations, &x);
+  const NamedBounds bounds = BoundsByName(*prep.problem);
+  NloptRun run = Minimize(prep, bounds, options_, options_.max_evaluations, &x);
   int evaluations = run.evaluations;
   if (run.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
-    run = Minimize(*prep.problem, options_, CostUnit(prep), options_.max_evaluations - evaluations, &x);
+    run = Minimize(prep, bounds, options_, options_.max_evaluations - evaluations, &x);
     evaluations += run.evaluations;
   }
   report->status = run.status;

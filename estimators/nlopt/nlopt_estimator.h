@@ -2,13 +2,11 @@
 // `nlopt`: the error model (estimators/error_model) minimised by NLopt (S. G. Johnson, "The NLopt
 // nonlinear-optimization package") within bounds on every parameter. The cost is the plain sum of
 // squared residuals f(x) = sum_i |r_i(x)|^2 with its exact gradient 2 J^T r, accumulated row by row
-// (normal_equations.h), so memory does not grow with the poses. The optimiser sees scaled variables
-// y = (x - x_start) / s (s: ErrorModelProblem::CharacteristicScales, 1 mm, 1 mrad, 1e-3) and the cost
-// in units of its mean curvature in y at the start (so the Gauss-Newton Hessian in y has eigenvalues
-// around 1, the size of a quasi-Newton method's initial identity Hessian): O(1) numbers whatever the
-// units. Bounds: ErrorModelBounds around the start (after the closed-form base registration). Bases are
-// registered and what the data cannot determine is held before solving, and the report comes from the
-// shared helpers (error_model.h), as for every error-model estimator.
+// (normal_equations.h), so memory does not grow with the poses. The optimiser sees scaled variables and
+// cost (O(1) numbers whatever the units) within bounds on every parameter (ErrorModelBounds around the
+// registered start, kept when identifiability is re-analysed): estimators/bounded/scaled_error_model.h.
+// Bases are registered and what the data cannot determine is held before solving, and the report comes
+// from the shared helpers (error_model.h), as for every error-model estimator.
 //
 // Algorithm by name. Default LD_SLSQP (Kraft 1988: sequential quadratic programming with a dense BFGS
 // Hessian, bound constraints handled exactly in its QP). Measured on the benchmark problem (1000 poses,
