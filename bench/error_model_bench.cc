@@ -90,6 +90,9 @@ void BM_NormalEquationsPass(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, ceres, std::string("ceres"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, nlopt, std::string("nlopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, ipopt, std::string("ipopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))
     ->Arg(1000000)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(BM_NormalEquationsPass)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);

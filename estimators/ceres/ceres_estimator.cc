@@ -33,6 +33,9 @@ bool CeresOptions::IsValid(std::string* why) const {
   if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
   if (!(gradient_tolerance >= 0.0) || !std::isfinite(gradient_tolerance)) return fail("gradient_tolerance must be >= 0");
   if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  if (!(initial_trust_region_radius > 0.0) || !std::isfinite(initial_trust_region_radius)) {
+    return fail("initial_trust_region_radius must be positive");
+  }
   if (num_threads < 1) return fail("num_threads must be >= 1");
   if (loss != "none" && loss != "huber" && loss != "cauchy") return fail("loss must be none, huber or cauchy, got '" + loss + "'");
   if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
@@ -51,6 +54,7 @@ CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
   reader.Get("function_tolerance", &o.function_tolerance);
   reader.Get("gradient_tolerance", &o.gradient_tolerance);
   reader.Get("parameter_tolerance", &o.parameter_tolerance);
+  reader.Get("initial_trust_region_radius", &o.initial_trust_region_radius);
   reader.Get("num_threads", &o.num_threads);
   reader.Get("loss", &o.loss);
   reader.GetLength("loss_scale", &o.loss_scale);
@@ -113,6 +117,7 @@ ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOpt
   so.gradient_tolerance = options.gradient_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
   so.num_threads = options.num_threads;
+  so.initial_trust_region_radius = options.initial_trust_region_radius;
   so.minimizer_progress_to_stdout = options.verbose;
   so.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
   ceres::Solver::Summary summary;
