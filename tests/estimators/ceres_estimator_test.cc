@@ -58,6 +58,7 @@ loss_scale: 50um
 weights: [1, 2]
 num_threads: 2
 max_iterations: 7
+initial_trust_region_radius: 1e4
 fixed: [base]
 )"));
   EXPECT_EQ(o.linear_solver, "dense_normal_cholesky");
@@ -66,12 +67,18 @@ fixed: [base]
   EXPECT_EQ(o.weights, (std::vector<double>{1, 2}));
   EXPECT_EQ(o.num_threads, 2);
   EXPECT_EQ(o.max_iterations, 7);
+  EXPECT_DOUBLE_EQ(o.initial_trust_region_radius, 1e4);
   EXPECT_EQ(o.error_model.fixed, std::vector<std::string>{"base"});
   std::string why;
   EXPECT_TRUE(o.IsValid(&why)) << why;
   EXPECT_THROW(CeresOptions::FromYaml(YAML::Load("{linear_solvr: dense_qr}")), std::invalid_argument);
   EXPECT_THROW(Estimators().Create("ceres", YAML::Load("{linear_solver: iterative_schur}")), std::invalid_argument);
   EXPECT_THROW(Estimators().Create("ceres", YAML::Load("{num_threads: 0}")), std::invalid_argument);
+  // Weights must match the rows: a clear error before anything is solved.
+  const SimulatedCase c = RandomPoseCase(30, 0.0, 2);
+  EstimationReport report;
+  EXPECT_THROW(RunEstimator("ceres", c.nominal, c.data, &report, YAML::Load("{weights: [1, 2, 3]}")),
+               std::invalid_argument);
   CeresOptions bad;
   bad.loss = "tukey";
   EXPECT_FALSE(bad.IsValid(&why));
@@ -162,6 +169,20 @@ TEST(CeresEstimator, SessionsSelectTheSparseSolverWhichGivesTheDenseAnswer) {
   EstimationReport report;
   RunEstimator("ceres", plain.nominal, plain.data, &report, YAML::Node());
   EXPECT_EQ(report.details["linear_solver"], "DENSE_QR");
+}
+
+// Several threads evaluate the residual blocks, each with a leased workspace: the same solution.
+TEST(CeresEstimator, ThreadsGiveTheSameSolution) {
+  const SimulatedCase c = SessionCase(90, 20e-6, 9);
+  EstimationReport one, two;
+  RunEstimator("ceres", c.nominal, c.data, &one, YAML::Node());
+  RunEstimator("ceres", c.nominal, c.data, &two, YAML::Load("{num_threads: 2}"));
+  EXPECT_EQ(two.status, EstimationStatus::kConverged) << two.BriefReport();
+  const auto expected = ByName(one);
+  for (const auto& p : two.parameters) {
+    if (!p.free) continue;
+    EXPECT_LT(std::abs(p.value - expected.at(p.name)->value), 1e-4 * p.stddev) << p.name;
+  }
 }
 
 // Huber loss and per-row weights define the same minimiser for Ceres and least_squares (IRLS).
