@@ -31,6 +31,7 @@
 //   int k = problem.EvaluateRow(i, x, ws.get(), &r, &J);     // r.head(k), J.topRows(k) (k x num_parameters())
 //   ... or AccumulateNormalEquations(problem, x, weighting, ...) for cost, J^T r and J^T J in O(p^2) memory;
 //   Ceres: one residual block per row over problem.RowBlocks(i); bounds: problem.Bounds(&lower, &upper).
+//   ReanalyzeIdentifiability(x, weighting, &prep, &x);        // true: minimise again from the new x
 //   FinishErrorModel(prep, x, weighting, identified, report);  // robot, covariance, report
 //
 // The problem keeps a pointer to the dataset: the dataset must outlive it. It copies the robots.
