@@ -3,6 +3,10 @@
 #include "estimators/baseline/none_estimator.h"
 #include "estimators/geometric/geometric_estimator.h"
 #include "estimators/ratio_regression/ratio_regression_estimator.h"
+#include "estimators/ceres/ceres_estimator.h"
+#include "estimators/ipopt/ipopt_estimator.h"
+#include "estimators/least_squares/least_squares_estimator.h"
+#include "estimators/nlopt/nlopt_estimator.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -25,6 +29,22 @@ EstimatorRegistry MakeRegistry() {
               FactoryOf<GeometricEstimator>(), true, ""});
   r.Register({"ratio_regression", "reduction ratios from swept arcs and encoder counts (seed, METHOD.md 3)",
               FactoryOf<RatioRegressionEstimator>(), true, ""});
+  r.Register({"least_squares",
+              "error model by our own Levenberg-Marquardt: every identifiable parameter, ratios, markers, session "
+              "bases; analytic Jacobians, robust loss, O(p^2) memory",
+              FactoryOf<LeastSquaresEstimator>(), true, ""});
+  r.Register({"ceres",
+              "error model by Ceres Solver (Levenberg-Marquardt, analytic Jacobians): dense QR, sparse normal Cholesky "
+              "(SuiteSparse) when sessions make it sparse; robust loss, weights",
+              FactoryOf<CeresEstimator>(), true, ""});
+  r.Register({"nlopt",
+              "error model by NLopt within bounds on every parameter: SLSQP with exact gradients by default, any "
+              "bounded local algorithm by name (LN_BOBYQA derivative-free)",
+              FactoryOf<NloptEstimator>(), true, ""});
+  r.Register({"ipopt",
+              "error model by Ipopt (interior point) within bounds on every parameter: exact gradients, Gauss-Newton "
+              "or limited-memory Hessian",
+              FactoryOf<IpoptEstimator>(), true, ""});
   return r;
 }
 

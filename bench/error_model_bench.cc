@@ -1,0 +1,102 @@
+// Error-model estimators on the issue's speed case: the seed's 6-joint arm, 1000 random poses seen by
+// a tracker metres away (10 um noise, encoder counts), everything identifiable free (33 parameters:
+// geometry, base, tool position, six ratios). Target (issue 4): least_squares within 10 ms, and no
+// slower than ceres in the same run. Adding an estimator to the comparison is one
+// BENCHMARK_CAPTURE line at the bottom. The million-pose run shows that memory does not grow with the
+// poses beyond the dataset itself (peak_rss_MB; about 350 MB of it is the Dataset's rows); skip it with
+//   ./build/bench/kincal_error_model_bench --benchmark_filter='/1000$'
+#include <fstream>
+#include <map>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "estimators/error_model/normal_equations.h"
+#include "framework/estimator.h"
+#include "framework/robot_file.h"
+#include "framework/simulator.h"
+
+namespace kincal {
+namespace {
+
+struct SpeedCase {
+  Robot nominal;
+  Dataset data;
+};
+
+const SpeedCase& Case(int poses) {
+  static std::map<int, SpeedCase> cases;
+  auto it = cases.find(poses);
+  if (it != cases.end()) return it->second;
+  SpeedCase c;
+  c.nominal = ReadRobotFile(KINCAL_SOURCE_DIR "/examples/robots/seed_nominal.yaml");
+  Robot truth = ReadRobotFile(KINCAL_SOURCE_DIR "/examples/robots/seed_identified.yaml");
+  truth.model().SetBase(PoseFromXyzRpy(Eigen::Vector3d(1.8, -0.6, 0.4), Eigen::Vector3d(0.3, -0.2, 2.0)));
+  SimulatorOptions so;
+  so.protocol = "random";
+  so.poses = poses;
+  so.noise_sigma = 10e-6;
+  so.seed = 2024;
+  c.data = Simulate(c.nominal, truth, so);
+  return cases.emplace(poses, std::move(c)).first->second;
+}
+
+// Peak resident memory of this process, MB (Linux; 0 elsewhere).
+double PeakRssMegabytes() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kb = 0.0;
+      status >> kb;
+      return kb / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+void BM_Estimator(benchmark::State& state, const std::string& name) {
+  if (!Estimators().IsAvailable(name)) {
+    state.SkipWithError((name + " is not registered or not available").c_str());
+    return;
+  }
+  const SpeedCase& c = Case(static_cast<int>(state.range(0)));
+  const auto estimator = Estimators().Create(name);
+  EstimationReport report;
+  for (auto _ : state) {
+    Robot identified;
+    report = estimator->Estimate(c.nominal, c.data, &identified);
+    benchmark::DoNotOptimize(identified);
+  }
+  state.counters["iterations"] = report.iterations;
+  state.counters["final_rms_um"] = report.final_rms * 1e6;
+  state.counters["free_parameters"] = report.details.value("free_parameters", 0);
+  state.counters["peak_rss_MB"] = PeakRssMegabytes();
+  if (report.status != EstimationStatus::kConverged) state.SkipWithError(report.BriefReport().c_str());
+}
+
+// One pass over the data: cost, J^T r and J^T J (what a Gauss-Newton iteration costs).
+void BM_NormalEquationsPass(benchmark::State& state) {
+  const SpeedCase& c = Case(static_cast<int>(state.range(0)));
+  const ErrorModelProblem problem(c.nominal, c.nominal, c.data, ErrorModelOptions());
+  const Eigen::VectorXd x = problem.InitialX();
+  for (auto _ : state) {
+    NormalEquations ne = AccumulateNormalEquations(problem, x);
+    benchmark::DoNotOptimize(ne);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, ceres, std::string("ceres"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, nlopt, std::string("nlopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, ipopt, std::string("ipopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))
+    ->Arg(1000000)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_NormalEquationsPass)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+}  // namespace kincal
+
+BENCHMARK_MAIN();

@@ -1,0 +1,176 @@
+#include "estimators/ceres/ceres_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/ceres.h>
+
+#include "estimators/ceres/error_model_cost.h"
+#include "framework/units.h"
+
+namespace kincal {
+namespace {
+
+bool SuiteSparseAvailable() { return ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE); }
+
+}  // namespace
+
+bool CeresOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!error_model.IsValid(why)) return false;
+  if (linear_solver != "auto" && linear_solver != "dense_qr" && linear_solver != "dense_normal_cholesky" &&
+      linear_solver != "sparse_normal_cholesky") {
+    return fail("linear_solver must be auto, dense_qr, dense_normal_cholesky or sparse_normal_cholesky, got '" +
+                linear_solver + "'");
+  }
+  if (linear_solver == "sparse_normal_cholesky" && !SuiteSparseAvailable()) {
+    return fail("linear_solver sparse_normal_cholesky: this Ceres was built without SuiteSparse");
+  }
+  if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
+  if (!(gradient_tolerance >= 0.0) || !std::isfinite(gradient_tolerance)) return fail("gradient_tolerance must be >= 0");
+  if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  if (!(initial_trust_region_radius > 0.0) || !std::isfinite(initial_trust_region_radius)) {
+    return fail("initial_trust_region_radius must be positive");
+  }
+  if (num_threads < 1) return fail("num_threads must be >= 1");
+  if (loss != "none" && loss != "huber" && loss != "cauchy") return fail("loss must be none, huber or cauchy, got '" + loss + "'");
+  if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
+  for (double w : weights) {
+    if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
+  }
+  return true;
+}
+
+CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
+  CeresOptions o;
+  OptionsReader reader(node, "ceres");
+  o.error_model.Read(&reader);
+  reader.Get("linear_solver", &o.linear_solver);
+  reader.Get("max_iterations", &o.max_iterations);
+  reader.Get("function_tolerance", &o.function_tolerance);
+  reader.Get("gradient_tolerance", &o.gradient_tolerance);
+  reader.Get("parameter_tolerance", &o.parameter_tolerance);
+  reader.Get("initial_trust_region_radius", &o.initial_trust_region_radius);
+  reader.Get("num_threads", &o.num_threads);
+  reader.Get("loss", &o.loss);
+  reader.GetLength("loss_scale", &o.loss_scale);
+  std::vector<std::string> weights;
+  reader.Get("weights", &weights);
+  for (const auto& w : weights) {
+    double v;
+    if (!ParseDouble(w, &v)) reader.Fail("weights", "expected a list of numbers, got '" + w + "'");
+    o.weights.push_back(v);
+  }
+  reader.Get("verbose", &o.verbose);
+  reader.Finish();
+  return o;
+}
+
+RowWeighting CeresOptions::Weighting() const {
+  RowWeighting w;
+  w.weights = weights;
+  w.loss.type = RobustLoss::TypeFromName(loss);
+  w.loss.scale = loss_scale;
+  return w;
+}
+
+namespace {
+
+EstimationStatus StatusOf(const ceres::Solver::Summary& summary) {
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+    case ceres::USER_SUCCESS: return EstimationStatus::kConverged;
+    case ceres::NO_CONVERGENCE: return EstimationStatus::kIterationLimit;
+    case ceres::FAILURE:
+    case ceres::USER_FAILURE: return EstimationStatus::kFailed;
+  }
+  return EstimationStatus::kFailed;
+}
+
+// Minimises from *x (the problem's parameters) with up to max_iterations steps; *x ends at the solution.
+ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOptions& options,
+                                const RowWeighting& weighting, int max_iterations, Eigen::VectorXd* x,
+                                std::vector<std::string>* warnings) {
+  CeresErrorModel model(problem, weighting, *x);
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  std::string solver = options.linear_solver;
+  if (solver == "auto") {
+    solver = model.sessions_make_it_sparse() && SuiteSparseAvailable() ? "sparse_normal_cholesky" : "dense_qr";
+    if (model.sessions_make_it_sparse() && !SuiteSparseAvailable()) {
+      warnings->push_back("ceres: SuiteSparse is not available; the sparse session problem is solved densely");
+    }
+  }
+  if (solver == "dense_qr") so.linear_solver_type = ceres::DENSE_QR;
+  if (solver == "dense_normal_cholesky") so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  if (solver == "sparse_normal_cholesky") {
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  }
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = options.function_tolerance;
+  so.gradient_tolerance = options.gradient_tolerance;
+  so.parameter_tolerance = options.parameter_tolerance;
+  so.num_threads = options.num_threads;
+  so.initial_trust_region_radius = options.initial_trust_region_radius;
+  so.minimizer_progress_to_stdout = options.verbose;
+  so.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &model.problem(), &summary);
+  *x = model.x();
+  return summary;
+}
+
+}  // namespace
+
+void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                                EstimationReport* report) const {
+  const RowWeighting weighting = options_.Weighting();
+  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
+    throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
+                                std::to_string(data.rows.size()) + " rows");
+  }
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
+  if (prep.problem->num_parameters() == 0) {
+    report->status = EstimationStatus::kConverged;
+    report->message = "no free parameter";
+    report->iterations = 0;
+    FinishErrorModel(prep, prep.problem->InitialX(), prep.initial, identified, report);
+    return;
+  }
+  Eigen::VectorXd x = prep.problem->InitialX();
+  ceres::Solver::Summary summary =
+      Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &report->warnings);
+  const double initial_cost = summary.initial_cost;
+  int iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  if (StatusOf(summary) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
+    summary = Minimize(*prep.problem, options_, weighting, std::max(0, options_.max_iterations - iterations), &x,
+                       &report->warnings);
+    iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+  }
+  report->status = StatusOf(summary);
+  report->message = summary.message;
+  report->iterations = iterations;
+  FinishErrorModel(prep, x, weighting, identified, report);
+
+  nlohmann::json& d = report->details;
+  d["linear_solver"] = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
+  d["successful_steps"] = summary.num_successful_steps;
+  d["unsuccessful_steps"] = summary.num_unsuccessful_steps;
+  d["initial_cost_m2"] = 2.0 * initial_cost;  // Ceres' cost is half the sum
+  d["times_s"] = {{"total", summary.total_time_in_seconds},
+                  {"preprocessor", summary.preprocessor_time_in_seconds},
+                  {"minimizer", summary.minimizer_time_in_seconds},
+                  {"residual_evaluation", summary.residual_evaluation_time_in_seconds},
+                  {"jacobian_evaluation", summary.jacobian_evaluation_time_in_seconds},
+                  {"linear_solver", summary.linear_solver_time_in_seconds},
+                  {"postprocessor", summary.postprocessor_time_in_seconds}};
+  d["loss"] = options_.loss;
+}
+
+}  // namespace kincal

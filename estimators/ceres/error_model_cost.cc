@@ -1,0 +1,96 @@
+#include "estimators/ceres/error_model_cost.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace kincal {
+
+WorkspacePool::Lease WorkspacePool::Acquire() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!free_.empty()) {
+      std::unique_ptr<Slot> slot = std::move(free_.back());
+      free_.pop_back();
+      return Lease(this, std::move(slot));
+    }
+  }
+  auto slot = std::make_unique<Slot>();
+  slot->workspace = problem_.NewWorkspace();
+  slot->x = problem_.InitialX();
+  return Lease(this, std::move(slot));
+}
+
+void WorkspacePool::Return(std::unique_ptr<Slot> slot) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  free_.push_back(std::move(slot));
+}
+
+ErrorModelRowCost::ErrorModelRowCost(const ErrorModelProblem& problem, int row, std::vector<int> blocks,
+                                     WorkspacePool* pool)
+    : problem_(problem), row_(row), blocks_(std::move(blocks)), pool_(pool) {
+  set_num_residuals(problem.RowResiduals(row));
+  for (int b : blocks_) mutable_parameter_block_sizes()->push_back(problem.blocks()[b].size);
+}
+
+bool ErrorModelRowCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const WorkspacePool::Lease slot = pool_->Acquire();
+  const std::vector<ParameterBlock>& all = problem_.blocks();
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    const ParameterBlock& b = all[blocks_[k]];
+    slot->x.segment(b.offset, b.size) = Eigen::Map<const Eigen::VectorXd>(parameters[k], b.size);
+  }
+  const int rows = problem_.EvaluateRow(row_, slot->x, slot->workspace.get(), &slot->residual,
+                                        jacobians ? &slot->jacobian : nullptr);
+  Eigen::Map<Eigen::VectorXd>(residuals, rows) = slot->residual.head(rows);
+  if (!slot->residual.head(rows).allFinite()) return false;
+  if (!jacobians) return true;
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    if (!jacobians[k]) continue;
+    const ParameterBlock& b = all[blocks_[k]];
+    // Ceres' Jacobian blocks are row-major, rows x block size.
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobians[k], rows, b.size) =
+        slot->jacobian.block(0, b.offset, rows, b.size);
+  }
+  return true;
+}
+
+CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeighting& weighting,
+                                 const Eigen::VectorXd& x0)
+    : problem_(problem), x_(x0), pool_(problem) {
+  if (x0.size() != problem.num_parameters()) throw std::invalid_argument("ceres: x0 has the wrong size");
+  const int rows = problem.num_rows();
+  if (!weighting.weights.empty() && static_cast<int>(weighting.weights.size()) != rows) {
+    throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
+                                std::to_string(rows) + " rows");
+  }
+  switch (weighting.loss.type) {
+    case RobustLoss::Type::kNone: break;
+    case RobustLoss::Type::kHuber: loss_ = std::make_unique<ceres::HuberLoss>(weighting.loss.scale); break;
+    case RobustLoss::Type::kCauchy: loss_ = std::make_unique<ceres::CauchyLoss>(weighting.loss.scale); break;
+  }
+  ceres::Problem::Options options;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres_problem_ = std::make_unique<ceres::Problem>(options);
+
+  const std::vector<ParameterBlock>& blocks = problem.blocks();
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    ceres_problem_->AddParameterBlock(block(static_cast<int>(b)), blocks[b].size);
+    if (blocks[b].name == "base" || blocks[b].name.rfind("session:", 0) == 0) ++frame_blocks_;
+  }
+  if (!weighting.weights.empty()) scaled_.reserve(rows);
+  std::vector<double*> pointers;
+  for (int i = 0; i < rows; ++i) {
+    std::vector<int> row_blocks = problem.RowBlocks(i);
+    if (row_blocks.empty()) continue;  // nothing free acts on this row: a constant cost
+    pointers.clear();
+    for (int b : row_blocks) pointers.push_back(block(b));
+    ceres::LossFunction* loss = loss_.get();
+    if (!weighting.weights.empty()) {
+      scaled_.push_back(std::make_unique<ceres::ScaledLoss>(loss_.get(), weighting.weights[i], ceres::DO_NOT_TAKE_OWNERSHIP));
+      loss = scaled_.back().get();
+    }
+    ceres_problem_->AddResidualBlock(new ErrorModelRowCost(problem, i, std::move(row_blocks), &pool_), loss, pointers);
+  }
+}
+
+}  // namespace kincal

@@ -1,0 +1,71 @@
+#pragma once
+// The steps every error-model estimator shares (least_squares, ceres, nlopt, ipopt), so that they differ
+// only in how they minimise:
+//   1. PrepareErrorModel: register the bases in closed form (base_registration.h), build the problem,
+//      analyse identifiability at the start (identifiability.h) and hold what the data cannot determine.
+//   2. the estimator minimises sum_i w_i rho(|r_i(x)|^2) over x, from problem->InitialX(); then
+//      ReanalyzeIdentifiability at the solution and, when it frees parameters, minimises again.
+//   3. FinishErrorModel: write x into the identified robot; covariance sigma^2 (J^T W J)^-1 with
+//      sigma^2 = sum w rho' |r|^2 / (m - p) (m residuals, p free parameters; the Cramer-Rao bound for
+//      Gaussian noise when the weights are the inverse variances); fill the report: every parameter with
+//      its start value, value, standard deviation and note, the held parameters, the condition number
+//      and observability indices, the residual RMS.
+// Example (an estimator's DoEstimate):
+//   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
+//   Eigen::VectorXd x = prep.problem->InitialX();
+//   ... minimise ...
+//   if (ReanalyzeIdentifiability(x, weighting, &prep, &x)) { ... minimise again ... }
+//   report->status = ...; report->iterations = ...; report->message = ...;
+//   FinishErrorModel(prep, x, weighting, identified, report);
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "estimators/error_model/error_model_problem.h"
+#include "estimators/error_model/identifiability.h"
+#include "estimators/error_model/normal_equations.h"
+#include "framework/estimator.h"
+
+namespace kincal {
+
+struct PreparedErrorModel {
+  Robot input;                                  // the start robot as given
+  Robot start;                                  // the same with registered bases
+  std::unique_ptr<ErrorModelProblem> problem;   // identifiable parameters free
+  IdentifiabilityAnalysis identifiability;      // at the start, of the problem before holding
+  NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
+  double registered_rms = NAN;                  // position RMS of the start once the bases are registered, m
+  std::vector<std::string> warnings;
+};
+
+// Throws std::invalid_argument for bad input (ErrorModelProblem's conditions).
+PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,
+                                     const ErrorModelOptions& options, const RowWeighting& weighting = RowWeighting());
+
+// Re-analyses identifiability at `solution` (a minimiser of prep->problem). A start value can hide what
+// the data determine: a marker that starts on the last joint's axis makes that row's alpha and a look
+// redundant with the tool. When the identifiable set at the solution differs, prep is rebuilt from the
+// solution (prep->start becomes the solution robot), *x is its new InitialX() and the result is true: the
+// estimator minimises again. Otherwise *x = solution and the result is false. Costs one pass.
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
+                              PreparedErrorModel* prep, Eigen::VectorXd* x);
+
+struct Covariance {
+  Eigen::MatrixXd matrix;    // p x p, sigma^2 (J^T W J)^-1, x's units
+  Eigen::VectorXd stddev;    // sqrt of the diagonal (NaN where J^T W J is singular)
+  double sigma = 0.0;        // estimated noise standard deviation per residual, m
+  int degrees_of_freedom = 0;
+};
+// From the normal equations at the solution (NormalEquations of AccumulateNormalEquations).
+Covariance ComputeCovariance(const NormalEquations& at_solution, int num_parameters);
+
+// Writes the identified robot and fills the report's common fields (see above). Does not set status,
+// message or iterations.
+void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd& x, const RowWeighting& weighting,
+                      Robot* identified, EstimationReport* report);
+// The same when the caller already has the normal equations at x (saves one pass over the data).
+void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd& x, const NormalEquations& at_x,
+                      Robot* identified, EstimationReport* report);
+
+}  // namespace kincal

@@ -1,0 +1,546 @@
+#include "estimators/error_model/error_model_problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "estimators/error_model/pose_jacobians.h"
+#include "framework/prediction.h"
+#include "models/chain_model.h"
+
+namespace kincal {
+namespace {
+
+using Group = ErrorModelParameter::Group;
+using Kind = ErrorModelParameter::Kind;
+
+const char* kAxisNames[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+
+Vector6d XyzRpy(const Eigen::Isometry3d& T) {
+  Vector6d v;
+  v.head<3>() = T.translation();
+  v.tail<3>() = RpyFromRotation(T.linear());
+  return v;
+}
+
+// Order of the groups in x (blocks are contiguous).
+int GroupOrder(Group g) {
+  switch (g) {
+    case Group::kJoint: return 0;
+    case Group::kTool: return 0;
+    case Group::kRatio: return 1;
+    case Group::kMarker: return 2;
+    case Group::kBase: return 3;
+    case Group::kSession: return 4;
+  }
+  return 5;
+}
+
+}  // namespace
+
+bool ErrorModelOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!(orientation_length > 0.0) || !std::isfinite(orientation_length)) return fail("orientation_length must be positive");
+  if (!(identifiability_tolerance > 0.0 && identifiability_tolerance < 1.0)) {
+    return fail("identifiability_tolerance must lie in (0, 1)");
+  }
+  const double b[] = {bounds.length, bounds.angle, bounds.ratio, bounds.marker, bounds.base_length, bounds.base_angle};
+  for (double v : b) {
+    if (!(v > 0.0) || !std::isfinite(v)) return fail("bounds must be positive and finite");
+  }
+  if (!(bounds.ratio < 1.0)) return fail("bound_ratio must be below 1");
+  return true;
+}
+
+void ErrorModelOptions::Read(OptionsReader* reader) {
+  reader->Get("fixed", &fixed);
+  reader->Get("identify_ratios", &identify_ratios);
+  reader->Get("identify_markers", &identify_markers);
+  reader->Get("identify_session_bases", &identify_session_bases);
+  reader->Get("initialize_bases", &initialize_bases);
+  reader->GetLength("orientation_length", &orientation_length);
+  reader->Get("identifiability_tolerance", &identifiability_tolerance);
+  reader->GetLength("bound_length", &bounds.length);
+  reader->GetAngleDeg("bound_angle_deg", &bounds.angle);
+  reader->Get("bound_ratio", &bounds.ratio);
+  reader->GetLength("bound_marker", &bounds.marker);
+  reader->GetLength("bound_base_length", &bounds.base_length);
+  reader->GetAngleDeg("bound_base_angle_deg", &bounds.base_angle);
+}
+
+ErrorModelProblem::~ErrorModelProblem() = default;
+ErrorModelProblem::ErrorModelProblem(const ErrorModelProblem&) = default;
+ErrorModelProblem& ErrorModelProblem::operator=(const ErrorModelProblem&) = default;
+
+ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller, const Dataset& data,
+                                     const ErrorModelOptions& options)
+    : start_(start), controller_(controller), data_(&data), options_(options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("error model options: " + why);
+  if (!start.has_model()) throw std::invalid_argument("error model: the robot has no model");
+  const int n = start.dof();
+  if (controller.dof() != n) throw std::invalid_argument("error model: the controller and the model differ in joint count");
+  data.Validate(n);
+  if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
+  if (start.drives) start.drives->Validate(n);
+
+  // Rows: actual angles at the start's ratios, marker and session slots, orientation.
+  std::set<std::string> marker_set;
+  std::set<int> session_set;
+  for (const Measurement& m : data.rows) {
+    if (!m.marker.empty()) marker_set.insert(m.marker);
+    if (m.session != 0) session_set.insert(m.session);
+  }
+  marker_ids_.assign(marker_set.begin(), marker_set.end());
+  session_ids_.assign(session_set.begin(), session_set.end());
+  for (const auto& id : marker_ids_) start.MarkerPosition(id);  // throws, naming the id
+
+  const int rows = static_cast<int>(data.rows.size());
+  auto per_row = std::make_shared<Rows>();
+  std::vector<double>& q_ref = per_row->q_ref;
+  std::vector<int>& row_marker = per_row->marker;
+  std::vector<int>& row_session = per_row->session;
+  std::vector<char>& row_orientation = per_row->orientation;
+  q_ref.resize(static_cast<size_t>(rows) * n);
+  row_marker.resize(rows);
+  row_session.resize(rows);
+  row_orientation.resize(rows);
+  bool any_session0 = false, all_marked = true, any_orientation = false;
+  for (int i = 0; i < rows; ++i) {
+    const Measurement& m = data.rows[i];
+    const Eigen::VectorXd q = ActualJointAngles(controller, start, m);
+    if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
+    Eigen::Map<Eigen::VectorXd>(&q_ref[static_cast<size_t>(i) * n], n) = q;
+    row_marker[i] = m.marker.empty()
+                         ? -1
+                         : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
+    row_session[i] = m.session == 0
+                          ? -1
+                          : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
+    row_orientation[i] = m.orientation.has_value();
+    if (m.orientation && !m.orientation->coeffs().allFinite()) {
+      throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
+    }
+    any_session0 |= m.session == 0;
+    all_marked &= !m.marker.empty();
+    any_orientation |= m.orientation.has_value();
+    num_residuals_ += m.orientation ? 6 : 3;
+  }
+  rows_ = std::move(per_row);
+
+  // The parameter through which each joint variable enters (its derivative is the joint's column).
+  joint_parameter_.assign(n, -1);
+  if (const auto* chain = dynamic_cast<const ChainModel*>(&start.model())) {
+    for (const auto& op : chain->ops()) {
+      if (op.joint >= 0) joint_parameter_[op.joint] = op.parameter;
+    }
+  }
+
+  // Candidates, in canonical order.
+  const KinematicModel& model = start.model();
+  const Eigen::VectorXd& values = model.Parameters();
+  for (int j = 0; j < model.num_parameters(); ++j) {
+    const ParameterInfo& info = model.parameter_info()[j];
+    ErrorModelParameter p;
+    p.name = info.name;
+    p.group = info.group == ParameterInfo::Group::kJoint ? Group::kJoint
+              : info.group == ParameterInfo::Group::kBase ? Group::kBase
+                                                          : Group::kTool;
+    p.kind = info.kind == ParameterInfo::Kind::kLength ? Kind::kLength : Kind::kAngle;
+    p.model_index = j;
+    p.joint = info.joint - 1;
+    p.start = values[j];
+    candidates_.push_back(p);
+  }
+  if (start.drives) {
+    for (int i = 0; i < n; ++i) {
+      ErrorModelParameter p;
+      p.name = "ratio_" + std::to_string(i + 1);
+      p.group = Group::kRatio;
+      p.kind = Kind::kRatioScale;
+      p.joint = i;
+      p.start = 1.0;
+      candidates_.push_back(p);
+    }
+  }
+  for (const auto& id : marker_ids_) {
+    const Eigen::Vector3d position = start.MarkerPosition(id);
+    for (int a = 0; a < 3; ++a) {
+      ErrorModelParameter p;
+      p.name = "marker_" + id + "_" + kAxisNames[a];
+      p.group = Group::kMarker;
+      p.kind = Kind::kLength;
+      p.marker = id;
+      p.axis = a;
+      p.start = position[a];
+      candidates_.push_back(p);
+    }
+  }
+  for (int k : session_ids_) {
+    const Vector6d pose = XyzRpy(start.SessionBase(k));
+    for (int a = 0; a < 6; ++a) {
+      ErrorModelParameter p;
+      p.name = "session_" + std::to_string(k) + "_" + kAxisNames[a];
+      p.group = Group::kSession;
+      p.kind = a < 3 ? Kind::kLength : Kind::kAngle;
+      p.session = k;
+      p.axis = a;
+      p.start = pose[a];
+      candidates_.push_back(p);
+    }
+  }
+
+  // Held by the options or by construction. The first reason given for a parameter is kept.
+  std::map<std::string, std::string> reasons;
+  const auto hold = [&](const ErrorModelParameter& p, const std::string& reason) { reasons.emplace(p.name, reason); };
+  for (const std::string& name : options.fixed) {
+    bool matched = false;
+    for (const auto& p : candidates_) {
+      const bool group_match =
+          (name == "base" && p.group == Group::kBase) || (name == "tool" && p.group == Group::kTool) ||
+          (name == "ratios" && p.group == Group::kRatio) || (name == "markers" && p.group == Group::kMarker) ||
+          (name == "sessions" && p.group == Group::kSession) ||
+          (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1));
+      if (group_match || p.name == name) {
+        hold(p, "fixed by the options");
+        matched = true;
+      }
+    }
+    if (!matched) {
+      std::string list;
+      for (const auto& p : candidates_) list += (list.empty() ? "" : ", ") + p.name;
+      throw std::invalid_argument("error model: cannot fix '" + name +
+                                  "': not a parameter of this robot and dataset (groups: base, tool, ratios, markers, "
+                                  "sessions, joint_<i>; names: " + list + ")");
+    }
+  }
+  ratios_active_ = start.drives && options.identify_ratios && (data.HasEncoders() || controller.drives);
+  for (const auto& p : candidates_) {
+    if ((p.group == Group::kJoint || p.group == Group::kTool || p.group == Group::kBase) &&
+        !model.FreeMask()[p.model_index]) {
+      hold(p, "fixed in the robot's free mask");
+    }
+    if (p.group == Group::kRatio && !ratios_active_) {
+      hold(p, !options.identify_ratios ? "identify_ratios is off"
+                                       : "no encoder counts and no controller drives: the ratios have no effect");
+    }
+    if (p.group == Group::kMarker && !options.identify_markers) hold(p, "identify_markers is off");
+    if (p.group == Group::kSession && !options.identify_session_bases) hold(p, "identify_session_bases is off");
+    if (p.group == Group::kBase && !any_session0) hold(p, "no row in session 0: the model's base has no effect");
+  }
+  bool markers_free = true;
+  for (const auto& p : candidates_) {
+    if (p.group == Group::kMarker && reasons.count(p.name)) markers_free = false;
+  }
+  const bool no_marker = marker_ids_.empty();
+  for (const auto& p : candidates_) {
+    if (p.group != Group::kTool) continue;
+    const bool translation = p.kind == Kind::kLength;
+    if (translation && all_marked && markers_free) {
+      hold(p, "redundant with the marker offsets (every row names a marker)");
+    } else if (!translation && !any_orientation && (no_marker || markers_free)) {
+      hold(p, no_marker ? "no effect on position measurements of the tool origin"
+                        : "redundant with the marker offsets (no orientation measured)");
+    }
+  }
+  for (const auto& p : candidates_) {
+    const auto it = reasons.find(p.name);
+    if (it != reasons.end()) held_.push_back({p, it->second, false});
+  }
+  Build();
+
+  if (num_residuals_ <= num_parameters()) {
+    throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(rows) + " rows give " +
+                                std::to_string(num_residuals_) + " residuals for " + std::to_string(num_parameters()) +
+                                " free parameters (add poses or fix parameters)");
+  }
+}
+
+void ErrorModelProblem::Build() {
+  std::set<std::string> held_names;
+  for (const auto& h : held_) held_names.insert(h.parameter.name);
+  free_.clear();
+  for (const auto& p : candidates_) {
+    if (!held_names.count(p.name)) free_.push_back(p);
+  }
+  std::stable_sort(free_.begin(), free_.end(), [](const ErrorModelParameter& a, const ErrorModelParameter& b) {
+    return GroupOrder(a.group) < GroupOrder(b.group);
+  });
+
+  const int n = start_.dof();
+  model_column_.assign(start_.model().num_parameters(), -1);
+  ratio_column_.assign(n, -1);
+  marker_column_.assign(marker_ids_.size(), {-1, -1, -1});
+  session_column_.assign(session_ids_.size(), {-1, -1, -1, -1, -1, -1});
+  marker_block_.assign(marker_ids_.size(), -1);
+  session_block_.assign(session_ids_.size(), -1);
+  blocks_.clear();
+  geometry_block_ = ratio_block_ = base_block_ = -1;
+  for (int i = 0; i < num_parameters(); ++i) {
+    const ErrorModelParameter& p = free_[i];
+    std::string block;
+    int* block_index = nullptr;
+    switch (p.group) {
+      case Group::kJoint:
+      case Group::kTool:
+        model_column_[p.model_index] = i;
+        block = "geometry";
+        block_index = &geometry_block_;
+        break;
+      case Group::kBase:
+        model_column_[p.model_index] = i;
+        block = "base";
+        block_index = &base_block_;
+        break;
+      case Group::kRatio:
+        ratio_column_[p.joint] = i;
+        block = "ratios";
+        block_index = &ratio_block_;
+        break;
+      case Group::kMarker: {
+        const int slot = static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
+        marker_column_[slot][p.axis] = i;
+        block = "marker:" + p.marker;
+        block_index = &marker_block_[slot];
+        break;
+      }
+      case Group::kSession: {
+        const int slot = static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), p.session) - session_ids_.begin());
+        session_column_[slot][p.axis] = i;
+        block = "session:" + std::to_string(p.session);
+        block_index = &session_block_[slot];
+        break;
+      }
+    }
+    if (blocks_.empty() || blocks_.back().name != block) {
+      *block_index = static_cast<int>(blocks_.size());
+      blocks_.push_back({block, i, 0});
+    }
+    ++blocks_.back().size;
+  }
+}
+
+ErrorModelProblem ErrorModelProblem::Hold(const std::vector<int>& x_indices, const std::string& reason,
+                                          bool unidentifiable) const {
+  ErrorModelProblem out(*this);
+  for (int i : x_indices) {
+    if (i < 0 || i >= num_parameters()) throw std::out_of_range("ErrorModelProblem::Hold: index out of range");
+    out.held_.push_back({free_[i], reason, unidentifiable});
+  }
+  out.Build();
+  return out;
+}
+
+std::vector<std::string> ErrorModelProblem::ParameterNames() const {
+  std::vector<std::string> names;
+  for (const auto& p : free_) names.push_back(p.name);
+  return names;
+}
+
+std::vector<int> ErrorModelProblem::RowBlocks(int row) const {
+  std::vector<int> out;
+  if (geometry_block_ >= 0) out.push_back(geometry_block_);
+  if (ratio_block_ >= 0) out.push_back(ratio_block_);
+  const int marker = rows_->marker[row];
+  if (marker >= 0 && marker_block_[marker] >= 0) out.push_back(marker_block_[marker]);
+  const int session = rows_->session[row];
+  if (session < 0 && base_block_ >= 0) out.push_back(base_block_);
+  if (session >= 0 && session_block_[session] >= 0) out.push_back(session_block_[session]);
+  return out;
+}
+
+Eigen::VectorXd ErrorModelProblem::InitialX() const {
+  Eigen::VectorXd x(num_parameters());
+  for (int i = 0; i < num_parameters(); ++i) x[i] = free_[i].start;
+  return x;
+}
+
+Eigen::VectorXd ErrorModelProblem::CharacteristicScales() const {
+  return Eigen::VectorXd::Constant(num_parameters(), 1e-3);
+}
+
+void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) const {
+  const ErrorModelBounds& b = options_.bounds;
+  lower->resize(num_parameters());
+  upper->resize(num_parameters());
+  for (int i = 0; i < num_parameters(); ++i) {
+    const ErrorModelParameter& p = free_[i];
+    const bool length = p.kind == Kind::kLength;
+    double half = 0.0;
+    switch (p.group) {
+      case Group::kJoint: half = length ? b.length : b.angle; break;
+      case Group::kTool: half = length ? b.marker : b.angle; break;
+      case Group::kRatio: half = b.ratio; break;
+      case Group::kMarker: half = b.marker; break;
+      case Group::kBase:
+      case Group::kSession: half = length ? b.base_length : b.base_angle; break;
+    }
+    (*lower)[i] = p.start - half;
+    (*upper)[i] = p.start + half;
+  }
+}
+
+std::unique_ptr<ErrorModelProblem::Workspace> ErrorModelProblem::NewWorkspace() const {
+  auto ws = std::make_unique<Workspace>();
+  ws->model = start_.model().Clone();
+  return ws;
+}
+
+void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const {
+  if (x.size() != num_parameters()) {
+    throw std::invalid_argument("error model: x has " + std::to_string(x.size()) + " entries, expected " +
+                                std::to_string(num_parameters()));
+  }
+  if (ws->valid && ws->x.size() == x.size() && ws->x == x) return;
+  ws->x = x;
+  Eigen::VectorXd values = start_.model().Parameters();
+  for (size_t j = 0; j < model_column_.size(); ++j) {
+    if (model_column_[j] >= 0) values[j] = x[model_column_[j]];
+  }
+  ws->model->SetParameters(values);
+  const int n = start_.dof();
+  ws->scale.setOnes(n);
+  for (int i = 0; i < n; ++i) {
+    if (ratio_column_[i] >= 0) ws->scale[i] = x[ratio_column_[i]];
+  }
+  ws->markers.resize(marker_ids_.size());
+  for (size_t k = 0; k < marker_ids_.size(); ++k) {
+    ws->markers[k] = start_.MarkerPosition(marker_ids_[k]);
+    for (int a = 0; a < 3; ++a) {
+      if (marker_column_[k][a] >= 0) ws->markers[k][a] = x[marker_column_[k][a]];
+    }
+  }
+  const Eigen::Isometry3d base0_inverse = ws->model->base().inverse();
+  ws->session_pose.resize(session_ids_.size());
+  ws->session_base.resize(session_ids_.size());
+  ws->session_from_base0.resize(session_ids_.size());
+  for (size_t k = 0; k < session_ids_.size(); ++k) {
+    Vector6d pose = XyzRpy(start_.SessionBase(session_ids_[k]));
+    for (int a = 0; a < 6; ++a) {
+      if (session_column_[k][a] >= 0) pose[a] = x[session_column_[k][a]];
+    }
+    ws->session_pose[k] = pose;
+    ws->session_base[k] = PoseFromXyzRpy(pose.head<3>(), pose.tail<3>());
+    ws->session_from_base0[k] = ws->session_base[k] * base0_inverse;
+  }
+  ws->valid = true;
+}
+
+int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
+                                   Matrix6Xd* jacobian) const {
+  UpdateWorkspace(x, ws);
+  const Measurement& m = data_->rows[row];
+  const int n = start_.dof();
+  const Eigen::Map<const Eigen::VectorXd> q_ref(&rows_->q_ref[static_cast<size_t>(row) * n], n);
+  ws->q = q_ref.cwiseQuotient(ws->scale);
+  const int marker = rows_->marker[row];
+  const Eigen::Vector3d point = marker >= 0 ? ws->markers[marker] : Eigen::Vector3d::Zero();
+  Matrix6Xd& Jm = ws->J_model;
+
+  Eigen::Isometry3d T_meas_tool;
+  if (jacobian) {
+    T_meas_tool = ws->model->ParameterJacobian(ws->q, point, &Jm);
+  } else {
+    T_meas_tool = ws->model->ForwardKinematics(ws->q);
+  }
+  const int session = rows_->session[row];
+  if (session >= 0) {
+    // T_meas(k)_tool = B_k B_0^-1 T_meas(0)_tool: derivatives rotate with it, the model base drops out.
+    const Eigen::Isometry3d& M = ws->session_from_base0[session];
+    T_meas_tool = M * T_meas_tool;
+    if (jacobian) {
+      Jm.topRows<3>() = M.linear() * Jm.topRows<3>();
+      Jm.bottomRows<3>() = M.linear() * Jm.bottomRows<3>();
+    }
+  }
+  const Eigen::Vector3d p = T_meas_tool * point;
+  residual->head<3>() = p - m.p;
+  const bool oriented = rows_->orientation[row];
+  Eigen::Matrix3d orientation_map;
+  if (oriented) {
+    const Eigen::Vector3d phi = RotationLog(T_meas_tool.linear() * m.orientation->toRotationMatrix().transpose());
+    residual->tail<3>() = options_.orientation_length * phi;
+    orientation_map = options_.orientation_length * LeftJacobianInverseSO3(phi);
+  } else {
+    residual->tail<3>().setZero();
+  }
+  if (!jacobian) return oriented ? 6 : 3;
+
+  Matrix6Xd& J = *jacobian;
+  J.setZero(6, num_parameters());
+  for (size_t j = 0; j < model_column_.size(); ++j) {
+    const int c = model_column_[j];
+    if (c < 0) continue;
+    if (session >= 0 && free_[c].group == Group::kBase) continue;
+    J.col(c) = Jm.col(j);
+  }
+  for (int i = 0; i < n; ++i) {
+    const int c = ratio_column_[i];
+    if (c < 0) continue;
+    // q_i = q_ref,i / s_i: dq_i/ds_i = -q_i / s_i.
+    const double dq_ds = -ws->q[i] / ws->scale[i];
+    if (joint_parameter_[i] >= 0) {
+      J.col(c) = Jm.col(joint_parameter_[i]) * dq_ds;
+    } else {
+      Matrix6Xd Jq = ws->model->JointJacobian(ws->q, point);
+      if (session >= 0) {
+        const Eigen::Matrix3d& R = ws->session_from_base0[session].linear();
+        Jq.topRows<3>() = R * Jq.topRows<3>();
+        Jq.bottomRows<3>() = R * Jq.bottomRows<3>();
+      }
+      J.col(c) = Jq.col(i) * dq_ds;
+    }
+  }
+  if (marker >= 0) {
+    for (int a = 0; a < 3; ++a) {
+      const int c = marker_column_[marker][a];
+      if (c >= 0) J.col(c).head<3>() = T_meas_tool.linear().col(a);
+    }
+  }
+  if (session >= 0) {
+    const Vector6d& pose = ws->session_pose[session];
+    const Matrix6d Jb = PoseParameterJacobian(pose.head<3>(), pose.tail<3>(), p);
+    for (int a = 0; a < 6; ++a) {
+      const int c = session_column_[session][a];
+      if (c >= 0) J.col(c) = Jb.col(a);
+    }
+  }
+  if (oriented) {
+    J.bottomRows<3>() = orientation_map * J.bottomRows<3>();
+  } else {
+    J.bottomRows<3>().setZero();
+  }
+  return oriented ? 6 : 3;
+}
+
+void ErrorModelProblem::WriteToRobot(const Eigen::VectorXd& x, Robot* robot) const {
+  auto ws = NewWorkspace();
+  UpdateWorkspace(x, ws.get());
+  *robot = start_;
+  robot->model().SetParameters(ws->model->Parameters());
+  if (robot->drives && ratios_active_) {
+    robot->drives->ratio = start_.drives->ratio.cwiseProduct(ws->scale);
+  }
+  for (size_t k = 0; k < marker_ids_.size(); ++k) robot->markers[marker_ids_[k]] = ws->markers[k];
+  for (size_t k = 0; k < session_ids_.size(); ++k) robot->session_bases[session_ids_[k]] = ws->session_base[k];
+}
+
+double ErrorModelProblem::ReportScale(const ErrorModelParameter& p) const {
+  return p.group == Group::kRatio ? start_.drives->ratio[p.joint] : 1.0;
+}
+
+std::string ErrorModelProblem::Unit(const ErrorModelParameter& p) {
+  switch (p.kind) {
+    case Kind::kLength: return "m";
+    case Kind::kAngle: return "rad";
+    case Kind::kRatioScale: return "";
+  }
+  return "";
+}
+
+}  // namespace kincal

@@ -1,0 +1,221 @@
+#pragma once
+// ErrorModelProblem: the error model that every least-squares-type estimator minimises (issue 4):
+// the difference between measured and predicted marker positions (and tool orientations, where a row
+// has one) over the free parameters of a robot.
+//
+// Unknowns x: the free subset of the candidates below, in this order; each group is contiguous and forms
+// one parameter block (blocks(); Ceres parameter blocks, sparsity with sessions):
+//   "geometry"      free model parameters other than the base: alpha_i, a_i, theta_i, d_i, tool_*; SI
+//   "ratios"        "ratio_i": joint i's reduction ratio RELATIVE TO THE START ROBOT'S, s_i = K_i / K_i,start
+//                   (1 at the start). The ratio is a joint-angle scale error: q_actual = q_ref / s_i, where
+//                   q_ref is the actual angle with the start robot's ratios (counts 2 pi / (C K_start), or
+//                   q_commanded K_controller / K_start; METHOD.md section 3, DriveModel).
+//   "marker:<id>"   "marker_<id>_x/_y/_z": a reflector's position in the tool frame, m (dataset `marker`)
+//   "base"          free base_* parameters: T_meas_base of session 0 (xyz, then roll-pitch-yaw)
+//   "session:<k>"   "session_<k>_x/y/z/roll/pitch/yaw": T_meas_base of session k (dataset `session`), same
+//                   parametrisation as the base. Rows of session k do not depend on the model's base.
+// Residuals of a row (RowResiduals(row) of them, 3 or 6), in metres:
+//   r[0..2] = p_predicted - p_measured                          (measurement frame of the row's session)
+//   r[3..5] = L log(R_predicted R_measured^T)                   (rows with an orientation; L =
+//             ErrorModelOptions::orientation_length, m per rad, weighs orientation against position)
+// Candidates held at their start value are listed by held() with the reason (options, redundant by
+// construction, or not identifiable from the data: see identifiability.h).
+//
+// How a backend uses it (error_model.h does the common steps):
+//   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options, weighting);
+//       // registers the bases in closed form, holds what the data cannot determine
+//   const ErrorModelProblem& problem = *prep.problem;
+//   Eigen::VectorXd x = problem.InitialX();
+//   auto ws = problem.NewWorkspace();                       // scratch: one per thread
+//   Vector6d r; Matrix6Xd J;
+//   int k = problem.EvaluateRow(i, x, ws.get(), &r, &J);     // r.head(k), J.topRows(k) (k x num_parameters())
+//   ... or AccumulateNormalEquations(problem, x, weighting, ...) for cost, J^T r and J^T J in O(p^2) memory;
+//   Ceres: one residual block per row over problem.RowBlocks(i); bounds: problem.Bounds(&lower, &upper).
+//   ReanalyzeIdentifiability(x, weighting, &prep, &x);        // true: minimise again from the new x
+//   FinishErrorModel(prep, x, weighting, identified, report);  // robot, covariance, report
+//
+// The problem keeps a pointer to the dataset: the dataset must outlive it. It copies the robots.
+// Evaluation is const and thread-compatible: give every thread its own Workspace.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "framework/dataset.h"
+#include "framework/math.h"
+#include "framework/registry.h"
+#include "framework/robot.h"
+
+namespace kincal {
+
+// Bounds around the start value (after base registration) for bounded solvers (NLopt, Ipopt).
+struct ErrorModelBounds {
+  double length = 0.010;                  // m: a_i, d_i (and prismatic offsets)
+  double angle = 2.0 * M_PI / 180.0;      // rad: alpha_i, theta_i, tool angles
+  double ratio = 0.05;                    // relative: s_i in [1 - ratio, 1 + ratio]
+  double marker = 0.05;                   // m: marker offsets, and tool_x/y/z (the marker without markers)
+  double base_length = 0.10;              // m: base and session-base translations
+  double base_angle = 10.0 * M_PI / 180.0;  // rad: base and session-base rotations
+};
+
+struct ErrorModelOptions {
+  // Held at their start value: parameter names ("a_2", "base_yaw", "ratio_3", "marker_SMR1_x",
+  // "session_2_z") or groups: "base", "tool", "ratios", "markers", "sessions", "joint_<i>" (row i).
+  std::vector<std::string> fixed;
+  bool identify_ratios = true;            // when the robot has drives (and the data gives them meaning)
+  bool identify_markers = true;           // when the dataset has a `marker` column
+  bool identify_session_bases = true;     // when the dataset has a `session` column
+  // Register the start model's predicted points onto the measurements (Kabsch/Horn) before solving,
+  // session by session. Skipped for a base that `fixed` holds.
+  bool initialize_bases = true;
+  double orientation_length = 0.1;        // m per rad (L above): 0.1 m equates 1 mrad and 0.1 mm
+  // A parameter is not identifiable when its scaled Jacobian column lies within this sine of an angle
+  // of the span of the columns kept before it (identifiability.h). Dimensionless.
+  double identifiability_tolerance = 1e-6;
+  ErrorModelBounds bounds;
+
+  bool IsValid(std::string* why) const;
+  // Reads the keys above from an estimator's options (fixed, identify_ratios, identify_markers,
+  // identify_session_bases, initialize_bases, orientation_length (length), identifiability_tolerance,
+  // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg).
+  void Read(OptionsReader* reader);
+};
+
+struct ErrorModelParameter {
+  enum class Group { kJoint, kTool, kRatio, kMarker, kBase, kSession };
+  enum class Kind { kLength, kAngle, kRatioScale };
+  std::string name;
+  Group group = Group::kJoint;
+  Kind kind = Kind::kLength;
+  int model_index = -1;   // kJoint, kTool, kBase: index into model().Parameters()
+  int joint = -1;         // kRatio: 0-based joint; kJoint: 0-based row
+  std::string marker;     // kMarker: id
+  int session = 0;        // kSession: session id
+  int axis = 0;           // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
+  double start = 0.0;     // start value in x's units (SI; 1 for a ratio scale)
+};
+
+struct ParameterBlock {
+  std::string name;  // "geometry", "ratios", "marker:<id>", "base", "session:<k>"
+  int offset = 0;    // first index in x
+  int size = 0;
+};
+
+struct HeldParameter {
+  ErrorModelParameter parameter;
+  std::string reason;
+  bool unidentifiable = false;  // held because the data cannot determine it (identifiability pass)
+};
+
+class ErrorModelProblem {
+ public:
+  // Scratch for EvaluateRow: a model clone set to x's values, cached until x changes. One per thread;
+  // its members are private to the problem.
+  struct Workspace {
+    std::unique_ptr<KinematicModel> model;
+    Eigen::VectorXd x;                              // the x the members below were set for
+    bool valid = false;
+    Eigen::VectorXd scale;                          // s_i per joint
+    std::vector<Eigen::Vector3d> markers;           // per marker slot, tool frame
+    std::vector<Vector6d> session_pose;             // xyz, rpy of each session slot's base
+    std::vector<Eigen::Isometry3d> session_base;    // T_meas_base per session slot
+    std::vector<Eigen::Isometry3d> session_from_base0;  // T_meas(k)_meas(0) = B_k B_0^-1
+    Eigen::VectorXd q;
+    Matrix6Xd J_model;
+  };
+
+  // Throws std::invalid_argument for bad input: joint counts, non-finite values, unknown marker ids,
+  // unknown names in options.fixed, or fewer residuals than free parameters.
+  ErrorModelProblem(const Robot& start, const Robot& controller, const Dataset& data,
+                    const ErrorModelOptions& options);
+  ~ErrorModelProblem();
+  ErrorModelProblem(const ErrorModelProblem&);
+  ErrorModelProblem& operator=(const ErrorModelProblem&);
+
+  // A copy with the given entries of x held at their start value (reason in held()).
+  ErrorModelProblem Hold(const std::vector<int>& x_indices, const std::string& reason, bool unidentifiable) const;
+
+  int num_parameters() const { return static_cast<int>(free_.size()); }
+  int num_rows() const { return static_cast<int>(data_->rows.size()); }
+  int num_residuals() const { return num_residuals_; }
+  int RowResiduals(int row) const { return rows_->orientation[row] ? 6 : 3; }
+
+  const std::vector<ErrorModelParameter>& parameters() const { return free_; }
+  // Every parameter the problem could free (free or held), in canonical order: the model's parameters,
+  // ratios, markers, session bases.
+  const std::vector<ErrorModelParameter>& candidates() const { return candidates_; }
+  std::vector<std::string> ParameterNames() const;
+  const std::vector<HeldParameter>& held() const { return held_; }
+  const std::vector<ParameterBlock>& blocks() const { return blocks_; }
+  // Blocks (indices into blocks()) whose parameters row `row` depends on.
+  std::vector<int> RowBlocks(int row) const;
+
+  Eigen::VectorXd InitialX() const;
+  // A priori magnitude of each parameter's error, for column and variable scaling: 1 mm for lengths,
+  // 1 mrad for angles, 1e-3 for ratio scales (each moves a marker about 1 mm at 1 m reach).
+  Eigen::VectorXd CharacteristicScales() const;
+  // Start value -/+ the options' bounds.
+  void Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) const;
+
+  std::unique_ptr<Workspace> NewWorkspace() const;
+  // Residuals of row `row` at x into residual->head(k) and, when jacobian is not null, dr/dx into its
+  // first k rows (resized to 6 x num_parameters(); other rows zero). Returns k (3 or 6). Analytic:
+  // KinematicModel::ParameterJacobian at the marker, chain rule for ratios, markers and sessions.
+  int EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* workspace, Vector6d* residual,
+                  Matrix6Xd* jacobian) const;
+
+  // Writes x into *robot (a copy of start()): model parameters, drives.ratio, markers, session_bases.
+  void WriteToRobot(const Eigen::VectorXd& x, Robot* robot) const;
+  // Factor from x's value (and standard deviation) to the value a user reads: 1, except for ratios
+  // (K_i = s_i K_i,start).
+  double ReportScale(const ErrorModelParameter& p) const;
+  // "m", "rad" or "" (ratios).
+  static std::string Unit(const ErrorModelParameter& p);
+
+  const Robot& start() const { return start_; }
+  const Robot& controller() const { return controller_; }
+  const Dataset& data() const { return *data_; }
+  const ErrorModelOptions& options() const { return options_; }
+  bool has_ratios() const { return ratios_active_; }
+
+ private:
+  // Orders the candidates not held into x, blocks and column maps.
+  void Build();
+  void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
+
+  Robot start_;
+  Robot controller_;
+  const Dataset* data_ = nullptr;
+  ErrorModelOptions options_;
+  bool ratios_active_ = false;
+
+  // Per row, shared by copies (Hold) so that a million rows are stored once.
+  struct Rows {
+    std::vector<double> q_ref;     // actual angles with the start's ratios, n per row
+    std::vector<int> marker;       // index into marker_ids_, -1 for the tool origin
+    std::vector<int> session;      // index into session_ids_, -1 for session 0
+    std::vector<char> orientation;
+  };
+  std::shared_ptr<const Rows> rows_;
+  std::vector<std::string> marker_ids_;
+  std::vector<int> session_ids_;
+  int num_residuals_ = 0;
+  std::vector<int> joint_parameter_;  // model parameter through which joint i's variable enters, -1 unknown
+
+  std::vector<ErrorModelParameter> candidates_;  // every parameter the model could free, canonical order
+  std::vector<ErrorModelParameter> free_;
+  std::vector<HeldParameter> held_;
+  std::vector<ParameterBlock> blocks_;
+  std::vector<int> model_column_;   // per model parameter: x index or -1
+  std::vector<int> ratio_column_;   // per joint: x index or -1
+  std::vector<std::array<int, 3>> marker_column_;   // per marker slot and axis: x index or -1
+  std::vector<std::array<int, 6>> session_column_;  // per session slot and axis: x index or -1
+  std::vector<int> marker_block_;   // per marker slot: block index or -1
+  std::vector<int> session_block_;  // per session slot: block index or -1
+  int geometry_block_ = -1, ratio_block_ = -1, base_block_ = -1;
+};
+
+}  // namespace kincal

@@ -1,0 +1,57 @@
+#pragma once
+// Cost, gradient and Gauss-Newton normal equations of an ErrorModelProblem, accumulated row by row so
+// that memory is O(p^2) whatever the number of rows (a million poses fit): rows are packed into a block
+// of at most kBlockResiduals residuals and added with one symmetric rank-k update (BLAS-3 speed without
+// ever holding J).
+//
+// Weighting (solver-side): row i has weight w_i (default 1) and a robust loss rho applied to its squared
+// residual norm s_i = |r_i|^2 (the 3 or 6 residuals of the row together, Ceres' convention):
+//   cost   = sum_i w_i rho(s_i)
+//   J^T r  = sum_i w_i rho'(s_i) J_i^T r_i              (half the gradient of cost)
+//   J^T J  = sum_i w_i rho'(s_i) J_i^T J_i              (IRLS: iteratively reweighted least squares)
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "estimators/error_model/error_model_problem.h"
+
+namespace kincal {
+
+struct RobustLoss {
+  enum class Type { kNone, kHuber, kCauchy };
+  Type type = Type::kNone;
+  double scale = 1e-4;  // m: the residual norm c where the loss leaves the quadratic
+  // rho(s) and rho'(s):  none  s, 1;
+  //                      huber s for s <= c^2, else 2 c sqrt(s) - c^2;  rho' = min(1, c / sqrt(s));
+  //                      cauchy c^2 log(1 + s / c^2);                   rho' = 1 / (1 + s / c^2).
+  void Evaluate(double s, double* rho, double* rho_prime) const;
+  // "none", "huber", "cauchy"; throws std::invalid_argument otherwise.
+  static Type TypeFromName(const std::string& name);
+};
+
+struct RowWeighting {
+  std::vector<double> weights;  // one per row, >= 0; empty means all 1
+  RobustLoss loss;
+  double weight(int row) const { return weights.empty() ? 1.0 : weights[row]; }
+};
+
+struct NormalEquations {
+  Eigen::MatrixXd JtJ;            // p x p, symmetric (both triangles), empty unless requested
+  Eigen::VectorXd Jtr;            // p, empty unless requested
+  double cost = 0.0;              // sum w rho(s)
+  double irls_squares = 0.0;      // sum w rho'(s) s: the weighted sum of squares behind J^T J (sigma^2)
+  double position_squares = 0.0;  // sum |r_position|^2, unweighted (the position RMS)
+  int num_rows = 0;
+  int num_residuals = 0;           // of the rows with a positive weight (the m of sigma^2)
+  double PositionRms() const;     // m
+};
+
+enum class Accumulate { kCost, kGradient, kNormalEquations };
+
+// Throws std::invalid_argument if weighting.weights has the wrong size or a negative/non-finite entry.
+NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, const Eigen::VectorXd& x,
+                                          const RowWeighting& weighting = RowWeighting(),
+                                          Accumulate what = Accumulate::kNormalEquations);
+
+}  // namespace kincal

@@ -1,0 +1,186 @@
+#include "estimators/least_squares/least_squares_estimator.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/Cholesky>
+
+#include "framework/units.h"
+
+namespace kincal {
+
+bool LeastSquaresOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!error_model.IsValid(why)) return false;
+  if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(parameter_tolerance > 0.0)) return fail("parameter_tolerance must be positive");
+  if (!(function_tolerance >= 0.0)) return fail("function_tolerance must be >= 0");
+  if (!(gradient_tolerance >= 0.0)) return fail("gradient_tolerance must be >= 0");
+  if (!(initial_damping >= 0.0) || !std::isfinite(initial_damping)) return fail("initial_damping must be finite and >= 0");
+  if (loss != "none" && loss != "huber" && loss != "cauchy") return fail("loss must be none, huber or cauchy, got '" + loss + "'");
+  if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
+  for (double w : weights) {
+    if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
+  }
+  return true;
+}
+
+LeastSquaresOptions LeastSquaresOptions::FromYaml(const YAML::Node& node) {
+  LeastSquaresOptions o;
+  OptionsReader reader(node, "least_squares");
+  o.error_model.Read(&reader);
+  reader.Get("max_iterations", &o.max_iterations);
+  reader.Get("parameter_tolerance", &o.parameter_tolerance);
+  reader.Get("function_tolerance", &o.function_tolerance);
+  reader.Get("gradient_tolerance", &o.gradient_tolerance);
+  reader.Get("initial_damping", &o.initial_damping);
+  reader.Get("loss", &o.loss);
+  reader.GetLength("loss_scale", &o.loss_scale);
+  std::vector<std::string> weights;
+  reader.Get("weights", &weights);
+  for (const auto& w : weights) {
+    double v;
+    if (!ParseDouble(w, &v)) reader.Fail("weights", "expected a list of numbers, got '" + w + "'");
+    o.weights.push_back(v);
+  }
+  reader.Finish();
+  return o;
+}
+
+RowWeighting LeastSquaresOptions::Weighting() const {
+  RowWeighting w;
+  w.weights = weights;
+  w.loss.type = RobustLoss::TypeFromName(loss);
+  w.loss.scale = loss_scale;
+  return w;
+}
+
+namespace {
+
+// Largest |cos| between a column of J and the residual vector: |(J^T r)_j| / (|J_j| |r|).
+double GradientCosine(const NormalEquations& ne) {
+  const double r_norm = std::sqrt(ne.irls_squares);
+  if (!(r_norm > 0.0)) return 0.0;
+  double worst = 0.0;
+  for (int j = 0; j < ne.Jtr.size(); ++j) {
+    const double c = std::sqrt(ne.JtJ(j, j));
+    if (c > 0.0) worst = std::max(worst, std::abs(ne.Jtr[j]) / (c * r_norm));
+  }
+  return worst;
+}
+
+struct LmResult {
+  EstimationStatus status = EstimationStatus::kIterationLimit;
+  std::string message = "iteration limit reached";
+  int iterations = 0;
+  double lambda = 0.0;
+};
+
+// Levenberg-Marquardt from *x, where *ne holds the normal equations; both end at the solution.
+LmResult Minimize(const ErrorModelProblem& problem, const LeastSquaresOptions& options, const RowWeighting& weighting,
+                  int max_iterations, Eigen::VectorXd* x, NormalEquations* ne) {
+  LmResult out;
+  const Eigen::VectorXd scale = problem.CharacteristicScales();
+  const int p = problem.num_parameters();
+  double lambda = options.initial_damping;
+  double nu = 2.0;
+  if (p == 0) {
+    out.status = EstimationStatus::kConverged;
+    out.message = "no free parameter";
+    return out;
+  }
+  while (out.iterations < max_iterations) {
+    if (ne->cost == 0.0 || GradientCosine(*ne) <= options.gradient_tolerance) {
+      out.status = EstimationStatus::kConverged;
+      out.message = ne->cost == 0.0 ? "zero residual" : "gradient tolerance reached";
+      break;
+    }
+    ++out.iterations;
+    // Marquardt: damp each parameter in proportion to its own curvature, so units do not matter.
+    const Eigen::VectorXd D = ne->JtJ.diagonal().cwiseMax(1e-300);
+    Eigen::MatrixXd A = ne->JtJ;
+    A.diagonal() += lambda * D;
+    const Eigen::VectorXd d_inv = D.cwiseSqrt().cwiseInverse();
+    const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * A * d_inv.asDiagonal());
+    if (llt.info() != Eigen::Success) {
+      lambda = std::max(lambda * nu, 1e-12);
+      nu *= 2.0;
+      continue;
+    }
+    const Eigen::VectorXd dx = -(d_inv.asDiagonal() * llt.solve(d_inv.asDiagonal() * ne->Jtr)).eval();
+    const double step = dx.cwiseQuotient(scale).cwiseAbs().maxCoeff();
+    // Decrease of the cost predicted by the linearised model: -(2 dx.g + dx^T N dx).
+    const double predicted = -(2.0 * dx.dot(ne->Jtr) + dx.dot(ne->JtJ * dx));
+    const Eigen::VectorXd x_new = *x + dx;
+    NormalEquations ne_new = AccumulateNormalEquations(problem, x_new, weighting);
+    const double actual = ne->cost - ne_new.cost;
+    if (actual > 0.0 && std::isfinite(ne_new.cost)) {
+      const double rho = predicted > 0.0 ? actual / predicted : 1.0;
+      const double old_cost = ne->cost;
+      *x = x_new;
+      *ne = std::move(ne_new);
+      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      if (step <= options.parameter_tolerance) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "parameter tolerance reached";
+        break;
+      }
+      if (actual <= options.function_tolerance * old_cost) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "function tolerance reached";
+        break;
+      }
+    } else {
+      // No decrease: the cost is at its rounding level when the step is already negligible.
+      if (step <= options.parameter_tolerance || std::abs(actual) <= 1e-15 * ne->cost) {
+        out.status = EstimationStatus::kConverged;
+        out.message = "no further decrease (cost at rounding level)";
+        break;
+      }
+      lambda = std::max(lambda * nu, 1e-12);
+      nu *= 2.0;
+      if (lambda > 1e16) {
+        out.status = EstimationStatus::kFailed;
+        out.message = "the damping grew without a decrease of the cost";
+        break;
+      }
+    }
+  }
+  out.lambda = lambda;
+  return out;
+}
+
+}  // namespace
+
+void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
+                                       Robot* identified, EstimationReport* report) const {
+  const RowWeighting weighting = options_.Weighting();
+  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
+    throw std::invalid_argument("least_squares: " + std::to_string(weighting.weights.size()) + " weights for " +
+                                std::to_string(data.rows.size()) + " rows");
+  }
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
+  Eigen::VectorXd x = prep.problem->InitialX();
+  NormalEquations ne = prep.initial;
+  const double initial_cost = ne.cost;
+  LmResult lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &ne);
+  int iterations = lm.iterations;
+  if (lm.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
+    ne = prep.initial;
+    lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations - iterations, &x, &ne);
+    iterations += lm.iterations;
+  }
+  report->status = lm.status;
+  report->message = lm.message;
+  report->iterations = iterations;
+  FinishErrorModel(prep, x, ne, identified, report);
+  report->details["initial_cost_m2"] = initial_cost;
+  report->details["final_damping"] = lm.lambda;
+  report->details["loss"] = options_.loss;
+}
+
+}  // namespace kincal

@@ -1,0 +1,180 @@
+#include "estimators/nlopt/nlopt_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <nlopt.hpp>
+
+#include "estimators/bounded/scaled_error_model.h"
+
+namespace kincal {
+namespace {
+
+// Local algorithms that honour bound constraints (NLopt's documentation, "NLopt Algorithms").
+const std::vector<std::string>& SupportedAlgorithms() {
+  static const std::vector<std::string> names = {
+      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",    "LD_CCSAQ",        "LD_VAR1",
+      "LD_VAR2",   "LD_TNEWTON", "LD_TNEWTON_PRECOND_RESTART", "LN_BOBYQA", "LN_COBYLA",
+      "LN_NEWUOA_BOUND", "LN_NELDERMEAD", "LN_SBPLX"};
+  return names;
+}
+
+// NLopt's objective: the scaled cost and, when NLopt asks for it, its gradient (scaled_error_model.h).
+class Objective {
+ public:
+  explicit Objective(const ScaledErrorModel& model) : model_(model) {}
+  static double Call(const std::vector<double>& y, std::vector<double>& gradient, void* self) {
+    return static_cast<Objective*>(self)->Evaluate(y, gradient);
+  }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  double Evaluate(const std::vector<double>& y, std::vector<double>& gradient) {
+    ++evaluations_;
+    const bool with_gradient = !gradient.empty();
+    const NormalEquations ne = model_.Evaluate(y.data(), with_gradient ? Accumulate::kGradient : Accumulate::kCost);
+    if (!std::isfinite(ne.cost)) return HUGE_VAL;
+    if (with_gradient) Eigen::Map<Eigen::VectorXd>(gradient.data(), model_.size()) = model_.Gradient(ne);
+    return model_.Cost(ne);
+  }
+  const ScaledErrorModel& model_;
+  int evaluations_ = 0;
+};
+
+struct NloptRun {
+  EstimationStatus status = EstimationStatus::kFailed;
+  std::string message;
+  nlopt::result result = nlopt::FAILURE;
+  int evaluations = 0;
+  int parameters_at_bounds = 0;
+};
+
+std::string ResultName(nlopt::result r) {
+  switch (r) {
+    case nlopt::FAILURE: return "generic failure";
+    case nlopt::INVALID_ARGS: return "invalid arguments";
+    case nlopt::OUT_OF_MEMORY: return "out of memory";
+    case nlopt::ROUNDOFF_LIMITED: return "roundoff limited";
+    case nlopt::FORCED_STOP: return "forced stop";
+    case nlopt::SUCCESS: return "success";
+    case nlopt::STOPVAL_REACHED: return "stopval reached";
+    case nlopt::FTOL_REACHED: return "function tolerance reached";
+    case nlopt::XTOL_REACHED: return "parameter tolerance reached";
+    case nlopt::MAXEVAL_REACHED: return "evaluation limit reached";
+    case nlopt::MAXTIME_REACHED: return "time limit reached";
+    default: return "result " + std::to_string(static_cast<int>(r));
+  }
+}
+
+// Minimises from the prepared problem's start within the bounds (`bounds` by name, see
+// scaled_error_model.h) with at most max_evaluations passes; *x ends at the best point NLopt found.
+NloptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const NloptOptions& options,
+                  int max_evaluations, Eigen::VectorXd* x) {
+  NloptRun run;
+  const ScaledErrorModel model(*prep.problem, prep.initial, bounds);
+  const int p = model.size();
+  Objective objective(model);
+  nlopt::opt opt(options.algorithm.c_str(), static_cast<unsigned>(p));
+  opt.set_lower_bounds(std::vector<double>(model.y_lower().data(), model.y_lower().data() + p));
+  opt.set_upper_bounds(std::vector<double>(model.y_upper().data(), model.y_upper().data() + p));
+  opt.set_min_objective(&Objective::Call, &objective);
+  opt.set_ftol_rel(options.function_tolerance);
+  opt.set_xtol_abs(options.parameter_tolerance);
+  opt.set_maxeval(std::max(1, max_evaluations));
+  if (options.max_time_seconds > 0.0) opt.set_maxtime(options.max_time_seconds);
+  std::vector<double> y(p, 0.0);
+  double f = 0.0;
+  try {
+    opt.optimize(y, f);
+  } catch (const std::exception&) {
+    // NLopt throws for its negative results; the code says which, and y holds the best point.
+  }
+  run.result = opt.last_optimize_result();
+  run.evaluations = objective.evaluations();
+  run.parameters_at_bounds = model.CountAtBounds(y.data());
+  *x = model.X(y.data());
+  switch (run.result) {
+    case nlopt::SUCCESS:
+    case nlopt::STOPVAL_REACHED:
+    case nlopt::FTOL_REACHED:
+    case nlopt::XTOL_REACHED: run.status = EstimationStatus::kConverged; break;
+    case nlopt::MAXEVAL_REACHED:
+    case nlopt::MAXTIME_REACHED: run.status = EstimationStatus::kIterationLimit; break;
+    default: run.status = EstimationStatus::kFailed; break;
+  }
+  run.message = options.algorithm + ": " + ResultName(run.result);
+  return run;
+}
+
+}  // namespace
+
+bool NloptOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!error_model.IsValid(why)) return false;
+  const auto& names = SupportedAlgorithms();
+  if (std::find(names.begin(), names.end(), algorithm) == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    return fail("algorithm must be one of " + list + ", got '" + algorithm + "'");
+  }
+  if (max_evaluations < 1) return fail("max_evaluations must be >= 1");
+  if (!(max_time_seconds >= 0.0) || !std::isfinite(max_time_seconds)) return fail("max_time_seconds must be >= 0");
+  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
+  if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  return true;
+}
+
+NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
+  NloptOptions o;
+  OptionsReader reader(node, "nlopt");
+  o.error_model.Read(&reader);
+  reader.Get("algorithm", &o.algorithm);
+  reader.Get("max_evaluations", &o.max_evaluations);
+  reader.Get("max_time_seconds", &o.max_time_seconds);
+  reader.Get("function_tolerance", &o.function_tolerance);
+  reader.Get("parameter_tolerance", &o.parameter_tolerance);
+  reader.Finish();
+  return o;
+}
+
+void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                                EstimationReport* report) const {
+  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model);
+  Eigen::VectorXd x = prep.problem->InitialX();
+  if (prep.problem->num_parameters() == 0) {
+    report->status = EstimationStatus::kConverged;
+    report->message = "no free parameter";
+    report->iterations = 0;
+    FinishErrorModel(prep, x, prep.initial, identified, report);
+    return;
+  }
+  const double initial_cost = prep.initial.cost;
+  const NamedBounds bounds = BoundsByName(*prep.problem);
+  NloptRun run = Minimize(prep, bounds, options_, options_.max_evaluations, &x);
+  int evaluations = run.evaluations;
+  if (run.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
+    run = Minimize(prep, bounds, options_, options_.max_evaluations - evaluations, &x);
+    evaluations += run.evaluations;
+  }
+  report->status = run.status;
+  report->message = run.message;
+  report->iterations = evaluations;  // NLopt counts evaluations, not iterations
+  FinishErrorModel(prep, x, RowWeighting(), identified, report);
+  nlohmann::json& d = report->details;
+  d["algorithm"] = options_.algorithm;
+  d["nlopt_result"] = static_cast<int>(run.result);
+  d["evaluations"] = evaluations;
+  d["parameters_at_bounds"] = run.parameters_at_bounds;
+  d["initial_cost_m2"] = initial_cost;
+  if (run.parameters_at_bounds > 0) {
+    report->warnings.push_back("nlopt: " + std::to_string(run.parameters_at_bounds) +
+                               " parameter(s) ended on a bound: widen the bound_* options if the model allows");
+  }
+}
+
+}  // namespace kincal
