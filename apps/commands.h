@@ -10,5 +10,8 @@ void AddFkCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddMethodsCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
+void AddStudyCommand(CLI::App& app);
+void AddMergeCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
 
 }  // namespace kincal::app
