@@ -62,11 +62,11 @@ void ProgressReporter::Draw(bool final) {
     const int filled = total_ > 0 ? done_ * kWidth / total_ : kWidth;
     std::string bar(filled, '#');
     bar += std::string(kWidth - filled, '.');
-    std::snprintf(line, sizeof(line), "\r%s [%s] %d/%d  %s elapsed, %s left ", what_.c_str(), bar.c_str(), done_, total_,
+    std::snprintf(line, sizeof(line), "\r[%s] %d/%d %s, %s elapsed, %s left ", bar.c_str(), done_, total_, what_.c_str(),
                   FormatDuration(elapsed).c_str(), final ? "0:00" : FormatDuration(left).c_str());
     *out_ << line;
   } else {
-    std::snprintf(line, sizeof(line), "%s: %d/%d done, %s elapsed, about %s left\n", what_.c_str(), done_, total_,
+    std::snprintf(line, sizeof(line), "%d/%d %s done, %s elapsed, about %s left\n", done_, total_, what_.c_str(),
                   FormatDuration(elapsed).c_str(), FormatDuration(left).c_str());
     *out_ << line;
   }

@@ -188,9 +188,11 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
     return;
   }
   const bool truth = std::isfinite(params.front().truth);
-  std::vector<std::string> estimators;
+  std::vector<std::string> estimators;  // those with parameters (not failed everywhere), but the baseline
   for (const auto& e : data.Estimators()) {
-    if (e != "none") estimators.push_back(e);
+    bool any = false;
+    for (const auto& p : params) any |= p.error.count(e) && p.error.at(e).count() > 0;
+    if (e != "none" && any) estimators.push_back(e);
   }
   o << (truth ? "Identified minus true value, mean ± standard deviation over trials; in brackets the standard deviation "
                 "the estimator reported (mean over trials). Lengths in mm, angles in deg, ratios dimensionless.\n\n"
@@ -199,7 +201,9 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
   std::vector<std::string> header = {"parameter", "unit"};
   if (truth) header.push_back("nominal − truth");
   for (const auto& e : estimators) header.push_back(Cell(e));
-  Header(o, header, std::vector<bool>(header.size(), true));
+  std::vector<bool> right(header.size(), true);
+  right[0] = right[1] = false;
+  Header(o, header, right);
   std::map<std::string, std::map<std::string, std::vector<double>>> squares;  // estimator -> unit -> errors^2
   for (const auto& p : params) {
     std::vector<std::string> cells = {Cell(p.name), p.unit.empty() ? "–" : p.unit};
@@ -247,7 +251,9 @@ void SensitivityTable(std::ostream& o, const ReportData& data, const std::string
     << KnobLabel(data.variants()[variants.front()].knob) << " (mean ± std over trials).\n\n";
   std::vector<std::string> header = {"method"};
   for (int v : data.variants().empty() ? std::vector<int>() : variants) header.push_back(data.variants()[v].knob_text);
-  Header(o, header, std::vector<bool>(header.size(), true));
+  std::vector<bool> right(header.size(), true);
+  right[0] = false;
+  Header(o, header, right);
   for (const auto& p : pairs) {
     std::vector<std::string> cells = {p.label == "before" ? "**before**" : Cell(p.label)};
     for (int v : variants) cells.push_back(MeanSpread(data.Values(v, p.estimator, p.compensator, validation, "position_error_mean_mm")));
@@ -305,6 +311,7 @@ void WriteReport(const std::string& dir) {
       if (data.IsIso(validation)) {
         o << "### ISO 9283: " << Cell(validation) << "\n\n";
         IsoTable(o, data, v, validation);
+        o << "Errors at P1..P5 themselves (no noise):\n\n";
       } else {
         o << "### Validation " << Cell(validation) << "\n\n";
       }

@@ -53,8 +53,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
 
-  std::string what = "study " + study.name;
-  if (options.shard_count > 1) what += " (shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count) + ")";
+  std::string what = "work items";
+  if (options.shard_count > 1) what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
   ProgressReporter progress(options.progress, options.interactive, static_cast<int>(mine.size()), what);
   std::vector<ItemResult> results(mine.size());
   std::atomic<size_t> next{0};

@@ -54,10 +54,13 @@ struct Tick {
 };
 
 std::vector<Tick> LogTicks(double min_positive, double max, Scale* scale) {
-  // A margin of 3 % of the span keeps points off the frame.
-  const double pad = 0.03 * (std::log10(max) - std::log10(min_positive));
-  int e0 = static_cast<int>(std::floor(std::log10(min_positive) - pad + 1e-9));
-  int e1 = static_cast<int>(std::ceil(std::log10(max) + pad - 1e-9));
+  // Whole decades; one more when a point would sit on the frame (within 2 % of the span).
+  const double lo = std::log10(min_positive), hi = std::log10(max);
+  const double margin = 0.02 * std::max(1.0, hi - lo);
+  int e0 = static_cast<int>(std::floor(lo + 1e-9));
+  int e1 = static_cast<int>(std::ceil(hi - 1e-9));
+  if (lo - e0 < margin) --e0;
+  if (e1 - hi < margin) ++e1;
   if (e1 <= e0) e1 = e0 + 1;
   scale->lo = e0;
   scale->hi = e1;
