@@ -19,6 +19,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string out = "kincal-demo";
     DemoOptions demo;
     int threads = 0;
+    bool no_iso = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--out", a->out, "output folder (default ./kincal-demo)");
@@ -27,9 +28,10 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_option("--stops", a->demo.stops, "sweep stops per joint; the random dataset has 6 x stops poses (default 20)");
   cmd->add_option("--seed", a->demo.seed, "random seed (default 1)");
   cmd->add_option("--threads", a->threads, "worker threads (default: every core)");
-  cmd->add_flag("!--no-iso", a->demo.iso, "leave out the ISO 9283 cube");
+  cmd->add_flag("--no-iso", a->no_iso, "leave out the ISO 9283 cube");
   cmd->callback([a]() {
     const auto t0 = std::chrono::steady_clock::now();
+    a->demo.iso = !a->no_iso;
     const std::string text = DemoStudyYaml(a->demo);
     std::filesystem::create_directories(a->out);
     const std::string study_path = a->out + "/study.yaml";

@@ -11,8 +11,14 @@
 namespace kincal {
 namespace {
 
-// Estimators that identify from the seed's joint sweeps (circle point analysis, ratio regression).
-const std::set<std::string> kSweepEstimators = {"geometric", "ratio_regression"};
+// Estimators that identify from the seed's joint sweeps (circle point analysis, ratio regression), by the
+// start of their registered names; the others get the random dataset.
+bool NeedsSweeps(const std::string& method) {
+  for (const char* prefix : {"geometric", "ratio_regression"}) {
+    if (method.rfind(prefix, 0) == 0) return true;
+  }
+  return false;
+}
 
 std::string Indent(const std::string& text, const std::string& prefix) {
   std::string out;
@@ -117,7 +123,7 @@ std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& re
   o << "\n";
   const auto dataset_of = [&](const std::vector<std::string>& methods) {
     for (const auto& m : methods) {
-      if (kSweepEstimators.count(m)) return "sweep";
+      if (NeedsSweeps(m)) return "sweep";
     }
     return "random";
   };
