@@ -117,6 +117,9 @@ class Reader {
   std::string file_;
 };
 
+// Present and not null (a default-constructed YAML::Node is a defined null).
+bool Given(const YAML::Node& node) { return node && !node.IsNull(); }
+
 std::string Resolve(const std::string& study_path, const std::string& path) {
   const std::filesystem::path p(path);
   if (p.is_absolute()) return path;
@@ -308,7 +311,7 @@ void CheckMethod(const Reader& r, const RegistryT& registry, const YAML::Node& a
     registry.Get(method);
     registry.Create(method, options);
   } catch (const std::invalid_argument& e) {
-    r.Fail(options && !options.IsNull() ? options : at, key, e.what());
+    r.Fail(Given(options) ? options : at, key, e.what());
   }
 }
 
@@ -356,7 +359,7 @@ PipelineSpec ReadPipeline(const Reader& r, const YAML::Node& node, const std::st
   for (const auto& m : p.methods) {
     if (m.empty()) r.Fail(method, mk, "empty method name in '" + method.Scalar() + "'");
   }
-  if (options && !options.IsNull()) {
+  if (Given(options)) {
     r.ExpectMap(options, key + ".options");
     if (p.methods.size() > 1 && !KeyedByMethod(options, p.methods)) {
       r.Fail(options, key + ".options", "with several methods, the options must be keyed by method name");
@@ -364,7 +367,7 @@ PipelineSpec ReadPipeline(const Reader& r, const YAML::Node& node, const std::st
   }
   for (size_t i = 0; i < p.methods.size(); ++i) {
     const YAML::Node o = MethodOptions(options, p.methods, i);
-    CheckMethod(r, registry, method, o, options ? key + ".options" : mk, p.methods[i]);
+    CheckMethod(r, registry, method, o, Given(options) ? key + ".options" : mk, p.methods[i]);
     p.options_yaml.push_back(OptionsText(o));
   }
   p.name = node.IsMap() && node["name"] ? r.Name(node["name"], key + ".name") : JoinMethods(p.methods);
@@ -386,7 +389,7 @@ CompensatorSpec ReadCompensator(const Reader& r, const YAML::Node& node, const s
   const std::string mk = node.IsMap() ? key + ".method" : key;
   c.method = r.Name(method, mk);
   c.options_yaml = OptionsText(options);
-  CheckMethod(r, registry, method, options, options ? key + ".options" : mk, c.method);
+  CheckMethod(r, registry, method, options, Given(options) ? key + ".options" : mk, c.method);
   c.name = node.IsMap() && node["name"] ? r.Name(node["name"], key + ".name") : c.method;
   return c;
 }

@@ -119,7 +119,7 @@ TEST_F(StudyFileTest, MalformedFilesNameTheKeyAndPlace) {
       {"unknown protocol", "datasets:\n  - {name: d, simulate: {protocol: spiral}}\n" + validation,
        {"datasets[0].simulate.protocol", "spiral"}},
       {"unknown method", datasets + validation + "estimators: [least_squarez]\n",
-       {"estimators[0]", "unknown method 'least_squarez'"}},
+       {"estimators[0]: unknown method 'least_squarez'"}},
       {"unknown method option", datasets + validation + "estimators:\n  - {method: base_kabsch, options: {bogus: 1}}\n",
        {"estimators[0].options", "bogus"}},
       {"unknown compensator", datasets + validation + "compensators: [{method: nope}]\n",
