@@ -1,4 +1,5 @@
 // The study file parser: a valid study's contents, the examples, and malformed files (errors name the key).
+#include <cstdio>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -191,6 +192,7 @@ TEST(ExampleStudies, Parse) {
     }
   }
   EXPECT_GE(files, 3);
+  for (const auto& s : skipped) std::printf("not checked here: %s\n", s.c_str());
   if (!skipped.empty() && parsed == 0) {
     std::string all;
     for (const auto& s : skipped) all += s + "\n";
