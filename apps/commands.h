@@ -12,5 +12,8 @@ void AddMethodsCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
 void AddConvertCommand(CLI::App& app);
 void AddCompensateCommand(CLI::App& app);
+void AddStudyCommand(CLI::App& app);
+void AddMergeCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
 
 }  // namespace kincal::app

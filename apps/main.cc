@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   kincal::app::AddConvertCommand(app);
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddMethodsCommand(app);
+  kincal::app::AddStudyCommand(app);
+  kincal::app::AddMergeCommand(app);
+  kincal::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

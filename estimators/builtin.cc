@@ -55,4 +55,20 @@ const EstimatorRegistry& Estimators() {
   return registry;
 }
 
+// Defined here rather than in framework/estimator.cc: it needs the registry, which lives in this library.
+std::vector<EstimationReport> RunPipeline(const std::vector<std::string>& methods,
+                                          const std::vector<YAML::Node>& options, const Robot& nominal,
+                                          const Dataset& data, Robot* identified) {
+  std::vector<EstimationReport> reports;
+  Robot current = nominal;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const auto estimator = Estimators().Create(methods[i], i < options.size() ? options[i] : YAML::Node());
+    Robot next;
+    reports.push_back(estimator->Estimate(current, nominal, data, &next));
+    current = std::move(next);
+  }
+  *identified = std::move(current);
+  return reports;
+}
+
 }  // namespace kincal

@@ -1,0 +1,27 @@
+// kincal merge DIR1 DIR2 ... --out DIR
+// Combines the folders of `kincal study --shard i/N` into the folder an unsharded run writes.
+#include <cstdio>
+
+#include "apps/commands.h"
+#include "framework/study/report.h"
+#include "framework/study/results_files.h"
+
+namespace kincal::app {
+
+void AddMergeCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("merge", "combine the shard folders of a study into one report");
+  struct Args {
+    std::vector<std::string> dirs;
+    std::string out;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("dirs", a->dirs, "the shards' output folders")->required();
+  cmd->add_option("--out", a->out, "output folder (created)")->required();
+  cmd->callback([a]() {
+    MergeShards(a->dirs, a->out);
+    WriteReport(a->out);
+    std::printf("merged %zu shards; wrote %s/report.md\n", a->dirs.size(), a->out.c_str());
+  });
+}
+
+}  // namespace kincal::app

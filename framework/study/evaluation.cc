@@ -1,0 +1,385 @@
+#include "framework/study/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <yaml-cpp/yaml.h>
+
+#include "framework/error.h"
+#include "framework/math.h"
+#include "framework/prediction.h"
+#include "framework/random.h"
+
+namespace kincal {
+namespace {
+
+double Quantile(const std::vector<double>& sorted, double f) {
+  const double pos = f * (sorted.size() - 1);
+  const size_t i = static_cast<size_t>(std::floor(pos));
+  if (i + 1 >= sorted.size()) return sorted.back();
+  return sorted[i] + (pos - i) * (sorted[i + 1] - sorted[i]);
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return Quantile(v, 0.5);
+}
+
+YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::Node() : YAML::Load(text); }
+
+// Where the true arm's joints go when the controller receives a compensation's commands.
+Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r) {
+  if (!truth.drives) return r.q_command;
+  if (!r.encoders.empty()) {
+    Eigen::VectorXd counts(static_cast<Eigen::Index>(r.encoders.size()));
+    for (size_t i = 0; i < r.encoders.size(); ++i) counts[static_cast<Eigen::Index>(i)] = static_cast<double>(r.encoders[i]);
+    return truth.drives->AnglesFromCounts(counts);
+  }
+  return DriveModel::ActualFromCommanded(*nominal.drives, *truth.drives, r.q_command);
+}
+
+std::string WorstStatus(const std::vector<EstimationReport>& reports) {
+  std::string status = "converged";
+  for (const auto& r : reports) {
+    if (r.status == EstimationStatus::kFailed) return "failed";
+    if (r.status == EstimationStatus::kIterationLimit) status = "iteration_limit";
+  }
+  return status;
+}
+
+std::vector<ConvergencePoint> Convergence(const std::vector<CompensationReport>& reports) {
+  size_t iterations = 0;
+  for (const auto& r : reports) iterations = std::max(iterations, r.position_history.size());
+  std::vector<ConvergencePoint> out;
+  for (size_t i = 0; i < iterations; ++i) {
+    ConvergencePoint c;
+    c.iteration = static_cast<int>(i);
+    std::vector<double> position, orientation;
+    for (const auto& r : reports) {
+      if (r.position_history.empty()) continue;
+      const size_t k = std::min(i, r.position_history.size() - 1);
+      position.push_back(r.position_history[k]);
+      if (k < r.orientation_history.size()) orientation.push_back(r.orientation_history[k]);
+      if (i + 1 < r.position_history.size()) ++c.active_targets;
+    }
+    c.position_median = Median(position);
+    c.position_max = *std::max_element(position.begin(), position.end());
+    if (!orientation.empty()) {
+      c.orientation_median = Median(orientation);
+      c.orientation_max = *std::max_element(orientation.begin(), orientation.end());
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, const Robot& identified,
+                                     const std::vector<EstimationReport>& reports) {
+  std::vector<ParameterRow> rows;
+  const auto stddev_of = [&](const std::string& name) {
+    for (auto r = reports.rbegin(); r != reports.rend(); ++r) {
+      for (const auto& p : r->parameters) {
+        if (p.name == name && p.free) return p.stddev;
+      }
+    }
+    return static_cast<double>(NAN);
+  };
+  const KinematicModel& m = identified.model();
+  for (int i = 0; i < m.num_parameters(); ++i) {
+    const ParameterInfo& info = m.parameter_info()[i];
+    const bool length = info.kind == ParameterInfo::Kind::kLength;
+    const double scale = length ? 1e3 : 180.0 / M_PI;
+    ParameterRow row;
+    row.name = info.name;
+    row.unit = length ? "mm" : "deg";
+    const int in_nominal = nominal.model().FindParameter(info.name);
+    if (in_nominal >= 0) row.nominal = nominal.model().Parameters()[in_nominal] * scale;
+    row.estimate = m.Parameters()[i] * scale;
+    row.stddev = stddev_of(info.name) * scale;
+    if (truth) {
+      const int in_truth = truth->model().FindParameter(info.name);
+      if (in_truth >= 0) row.truth = truth->model().Parameters()[in_truth] * scale;
+    }
+    rows.push_back(row);
+  }
+  if (identified.drives) {
+    for (int j = 0; j < identified.drives->dof(); ++j) {
+      ParameterRow row;
+      row.name = "ratio_" + std::to_string(j + 1);
+      if (nominal.drives) row.nominal = nominal.drives->ratio[j];
+      row.estimate = identified.drives->ratio[j];
+      row.stddev = stddev_of(row.name);
+      if (truth && truth->drives) row.truth = truth->drives->ratio[j];
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+ErrorSummary SummarizeErrors(std::vector<double> errors) {
+  ErrorSummary s;
+  s.count = static_cast<int>(errors.size());
+  if (errors.empty()) return s;
+  std::sort(errors.begin(), errors.end());
+  double sum = 0.0, sum2 = 0.0;
+  for (double e : errors) {
+    sum += e;
+    sum2 += e * e;
+  }
+  s.mean = sum / s.count;
+  s.rms = std::sqrt(sum2 / s.count);
+  s.max = errors.back();
+  s.p05 = Quantile(errors, 0.05);
+  s.p25 = Quantile(errors, 0.25);
+  s.p50 = Quantile(errors, 0.50);
+  s.p75 = Quantile(errors, 0.75);
+  s.p95 = Quantile(errors, 0.95);
+  return s;
+}
+
+StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& registries)
+    : study_(study), registries_(registries) {
+  variants_ = Variants(study_);
+  items_ = WorkItems(study_, variants_);
+  for (size_t v = 0; v < study_.validation.size(); ++v) {
+    if (study_.validation[v].kind == ValidationSpec::Kind::kRandom) {
+      convergence_validation_ = static_cast<int>(v);
+      break;
+    }
+  }
+  for (const DatasetSpec& spec : study_.datasets) {
+    PreparedDataset d;
+    d.nominal = study_.nominal.robot;
+    if (!spec.simulated) {
+      d.measured = ReadDataset(spec.file);
+      d.measured.Validate(d.nominal.dof());
+      if (spec.split == DatasetSpec::Split::kColumn && d.measured.Subset(Split::kTest).rows.empty()) {
+        ThrowInputError(spec.file, 0, 0, "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
+      }
+      datasets_.push_back(std::move(d));
+      continue;
+    }
+    d.truth = study_.truth->robot;
+    if (spec.marker) {
+      for (Robot* r : {&d.nominal, &d.truth}) {
+        Eigen::Isometry3d tool = r->model().tool();
+        tool.translation() = *spec.marker;
+        r->model().SetTool(tool);
+      }
+    }
+    for (const ValidationSpec& v : study_.validation) {
+      const bool orientation = v.orientation && d.nominal.dof() >= 6;
+      d.orientation.push_back(orientation);
+      if (v.kind == ValidationSpec::Kind::kRandom) {
+        d.targets.push_back(RandomTargets(d.nominal, v.count, v.joint_limits, ValidationSeed(study_, v)));
+      } else {
+        try {
+          d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
+        } catch (const std::invalid_argument& e) {
+          ThrowInputError(study_.source, 0, 0, "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
+        }
+      }
+    }
+    datasets_.push_back(std::move(d));
+  }
+}
+
+Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const {
+  const DatasetVariant& variant = variants_[item.variant];
+  const DatasetSpec& spec = study_.datasets[variant.dataset];
+  const PreparedDataset& d = datasets_[variant.dataset];
+  const uint64_t seed = DatasetSeed(study_, variant, item.trial);
+  if (spec.simulated) {
+    SimulatorOptions o = variant.simulator;
+    o.seed = seed;
+    return Simulate(d.nominal, d.truth, o);
+  }
+  const Dataset& all = d.measured;
+  if (spec.split == DatasetSpec::Split::kColumn) {
+    *test = all.Subset(Split::kTest);
+    return all.Subset(Split::kTrain);
+  }
+  const size_t n = all.rows.size();
+  std::vector<bool> is_test(n, false);
+  if (spec.split == DatasetSpec::Split::kEvery) {
+    for (size_t i = 0; i < n; ++i) is_test[i] = (i + 1) % spec.every == 0;
+  } else {
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    Rng rng(seed);
+    for (size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.NextU64() % i]);
+    const size_t count = static_cast<size_t>(std::llround(spec.test_fraction * n));
+    for (size_t i = 0; i < count; ++i) is_test[order[i]] = true;
+  }
+  Dataset train = all;
+  train.rows.clear();
+  *test = train;
+  for (size_t i = 0; i < n; ++i) (is_test[i] ? test : &train)->rows.push_back(all.rows[i]);
+  return train;
+}
+
+ItemResult StudyEvaluator::Run(const WorkItem& item) const {
+  ItemResult result;
+  result.item = item;
+  const DatasetVariant& variant = variants_[item.variant];
+  const DatasetSpec& spec = study_.datasets[variant.dataset];
+  const PreparedDataset& d = datasets_[variant.dataset];
+  const PipelineSpec& pipeline = study_.pipelines[item.pipeline];
+
+  Dataset test;
+  std::vector<EstimationReport> reports;
+  Robot identified = d.nominal;
+  try {
+    const Dataset train = TrainingData(item, &test);
+    double seconds = 0.0;
+    for (size_t i = 0; i < pipeline.methods.size(); ++i) {
+      const auto estimator = registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
+      Robot next;
+      reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
+      seconds += reports.back().wall_time_seconds;
+      identified = std::move(next);
+    }
+    result.identify_seconds = seconds;
+    result.estimation_status = WorstStatus(reports);
+    for (const auto& r : reports) {
+      if (r.status != EstimationStatus::kConverged && !r.message.empty()) {
+        result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + r.message;
+      }
+    }
+  } catch (const std::exception& e) {
+    result.estimation_status = "error";
+    result.estimation_note = e.what();
+  }
+  if (result.estimation_status != "error") {
+    result.parameters = Parameters(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
+  }
+  std::string status = "ok";
+  if (result.estimation_status != "converged") status = "estimate_" + result.estimation_status;
+
+  if (!spec.simulated) {
+    EvaluationRow row;
+    row.compensator = "-";
+    row.validation = "heldout";
+    row.status = status;
+    row.note = result.estimation_note;
+    if (result.estimation_status != "error") {
+      const PredictionErrors e = EvaluatePredictions(d.nominal, identified, test);
+      row.targets = row.converged = static_cast<int>(test.rows.size());
+      row.position = SummarizeErrors(e.position);
+      row.orientation = SummarizeErrors(e.orientation);
+    }
+    result.rows.push_back(row);
+    return result;
+  }
+  Evaluate(item, d, identified, status, result.estimation_note, &result);
+  return result;
+}
+
+void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, const Robot& identified,
+                              const std::string& status, const std::string& note, ItemResult* result) const {
+  const DatasetVariant& variant = variants_[item.variant];
+  const uint64_t dataset_seed = DatasetSeed(study_, variant, item.trial);
+  const bool estimated = result->estimation_status != "error";
+  // Compensator "-": how well the identified robot predicts where the true arm goes at the targets'
+  // commanded joints (it scores an estimator alone, like the held-out rows of measured data).
+  for (size_t v = 0; v < study_.validation.size(); ++v) {
+    if (study_.validation[v].kind != ValidationSpec::Kind::kRandom) continue;
+    EvaluationRow row;
+    row.compensator = "-";
+    row.validation = study_.validation[v].name;
+    row.status = status;
+    row.note = note;
+    if (estimated) {
+      std::vector<double> position, orientation;
+      for (const ValidationTarget& target : d.targets[v]) {
+        Measurement m;
+        m.q = target.q_nominal;
+        if (d.nominal.drives) m.encoders = d.nominal.drives->CommandCounts(m.q);
+        const Eigen::Isometry3d T_truth = d.truth.model().ForwardKinematics(ActualJointAngles(d.nominal, d.truth, m));
+        const Eigen::Isometry3d T_model = identified.model().ForwardKinematics(ActualJointAngles(d.nominal, identified, m));
+        position.push_back((T_truth.translation() - T_model.translation()).norm());
+        if (d.orientation[v]) orientation.push_back(RotationAngleBetween(T_truth.linear(), T_model.linear()));
+      }
+      row.targets = row.converged = static_cast<int>(d.targets[v].size());
+      row.position = SummarizeErrors(position);
+      row.orientation = SummarizeErrors(orientation);
+    }
+    result->rows.push_back(row);
+  }
+  for (const CompensatorSpec& c : study_.compensators) {
+    std::vector<EvaluationRow> rows(study_.validation.size());
+    for (size_t v = 0; v < rows.size(); ++v) {
+      rows[v].compensator = c.name;
+      rows[v].validation = study_.validation[v].name;
+      rows[v].status = status;
+      rows[v].note = note;
+    }
+    if (!estimated) {
+      for (auto& row : rows) result->rows.push_back(row);
+      continue;
+    }
+    try {
+      const auto compensator = registries_.compensators->Create(c.method, LoadOptions(c.options_yaml));
+      compensator->Prepare(d.nominal, identified);
+      for (size_t v = 0; v < rows.size(); ++v) {
+        const ValidationSpec& spec = study_.validation[v];
+        EvaluationRow& row = rows[v];
+        std::vector<double> position, orientation;
+        std::vector<CompensationReport> reports;
+        double seconds = 0.0;
+        const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
+        for (size_t t = 0; t < d.targets[v].size(); ++t) {
+          const ValidationTarget& target = d.targets[v][t];
+          CompensationTarget goal;
+          goal.T_meas_tool = target.T_meas_tool;
+          goal.has_orientation = d.orientation[v];
+          goal.seed = target.q_nominal;
+          CompensationResult r = compensator->Compensate(goal);
+          seconds += r.report.wall_time_seconds;
+          if (r.report.status == CompensationStatus::kConverged) ++row.converged;
+          const Eigen::VectorXd q_truth = TruthAngles(d.nominal, d.truth, r);
+          const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
+          position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
+          if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
+          if (iso) {
+            // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
+            Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
+            std::vector<Eigen::Isometry3d> attained;
+            for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
+              Eigen::VectorXd q = q_truth;
+              for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
+              Eigen::Isometry3d Tc = d.truth.model().ForwardKinematics(q);
+              for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
+              attained.push_back(Tc);
+            }
+            row.iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
+          }
+          if (static_cast<int>(v) == convergence_validation_) reports.push_back(std::move(r.report));
+        }
+        row.targets = static_cast<int>(d.targets[v].size());
+        row.position = SummarizeErrors(position);
+        row.orientation = SummarizeErrors(orientation);
+        row.compensate_seconds_per_target = row.targets ? seconds / row.targets : NAN;
+        if (!reports.empty()) row.convergence = Convergence(reports);
+        if (row.status == "ok" && row.converged < row.targets) {
+          row.status = "compensation_partial";
+          row.note = std::to_string(row.converged) + " of " + std::to_string(row.targets) + " targets converged";
+        }
+      }
+    } catch (const std::exception& e) {
+      for (auto& row : rows) {
+        EvaluationRow failed;
+        failed.compensator = c.name;
+        failed.validation = row.validation;
+        row = failed;
+        row.status = "compensator_error";
+        row.note = e.what();
+      }
+    }
+    for (auto& row : rows) result->rows.push_back(std::move(row));
+  }
+}
+
+}  // namespace kincal

@@ -1,0 +1,38 @@
+#pragma once
+// Small studies for the tests: seed robots, few poses and targets, so that each run takes a fraction of a
+// second (also under the sanitizers).
+#include <string>
+
+#include "tests/support/test_util.h"
+
+namespace kincal::testing {
+
+// The robots block, with absolute paths to the example robots.
+inline std::string SeedRobotsYaml() {
+  return "robots:\n  nominal: " + SourcePath("examples/robots/seed_nominal.yaml") +
+         "\n  truth: " + SourcePath("examples/robots/seed_identified.yaml") + "\n";
+}
+
+// Two datasets, the test-double methods, random targets and the ISO cube, two trials.
+inline std::string SmallStudyYaml() {
+  return "name: small\n"
+         "seed: 7\n"
+         "trials: 2\n" +
+         SeedRobotsYaml() +
+         "datasets:\n"
+         "  - name: sweep\n"
+         "    simulate: {protocol: sweep, stops: 4, step: 3, noise: 10um}\n"
+         "  - name: random\n"
+         "    simulate: {protocol: random, poses: 24, noise: 10um}\n"
+         "estimators:\n"
+         "  - base_kabsch\n"
+         "  - {name: oracle, method: oracle, datasets: [random]}\n"
+         "  - {method: throws, datasets: [sweep]}\n"
+         "compensators:\n"
+         "  - jacobian_ik\n"
+         "validation:\n"
+         "  - {name: targets, random_targets: 12}\n"
+         "  - {name: cube, iso9283: {side: 150mm, cycles: 6, joint_noise: 0.002}}\n";
+}
+
+}  // namespace kincal::testing

@@ -1,0 +1,25 @@
+#pragma once
+// TEST DOUBLES for the study tests. They are NOT registered in the library's registries: the tests pass
+// them to the study through MethodRegistries, so that studies with non-trivial estimators and compensators
+// can be run in this branch, whatever the library registers.
+//   estimators:   none (the library's), base_kabsch (fits the base transform only, Kabsch/Umeyama on the
+//                 predicted and measured marker positions), oracle (returns the truth robot it was given),
+//                 throws (always throws, like an estimator given data it cannot use)
+//   compensators: none (the library's), jacobian_ik (damped Gauss-Newton on the identified robot, with the
+//                 convergence histories filled)
+#include "framework/compensator.h"
+#include "framework/estimator.h"
+#include "framework/study/study.h"
+
+namespace kincal::testing {
+
+struct TestRegistries {
+  EstimatorRegistry estimators;
+  CompensatorRegistry compensators;
+  MethodRegistries view() const { return {&estimators, &compensators}; }
+};
+
+// `truth` is what the oracle estimator returns.
+TestRegistries MakeTestRegistries(const Robot& truth);
+
+}  // namespace kincal::testing
