@@ -70,7 +70,8 @@ TEST(LeastSquares, ZeroWeightsEqualDroppingRows) {
   const SimulatedCase c = RandomPoseCase(60, 20e-6, 43);
   Dataset kept = c.data;
   kept.rows.clear();
-  // Both run to the rounding level of the minimum, so that they can be compared digit by digit.
+  // Both run to the rounding level of the minimum, so that they agree to far below the noise (20 um):
+  // 1e-10 m and 1e-10 relative leave room for the different summation order of the two normal equations.
   YAML::Node options, tight;
   options["parameter_tolerance"] = tight["parameter_tolerance"] = 1e-12;
   for (size_t i = 0; i < c.data.rows.size(); ++i) {
@@ -82,8 +83,8 @@ TEST(LeastSquares, ZeroWeightsEqualDroppingRows) {
   const Robot a = RunEstimator("least_squares", c.nominal, c.data, &weighted, options);
   const Robot b = RunEstimator("least_squares", c.nominal, kept, &dropped, tight);
   const Eigen::VectorXd da = a.model().Parameters(), db = b.model().Parameters();
-  EXPECT_LT((da - db).cwiseAbs().maxCoeff(), 1e-12);
-  EXPECT_LT((a.drives->ratio - b.drives->ratio).cwiseQuotient(b.drives->ratio).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((da - db).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((a.drives->ratio - b.drives->ratio).cwiseQuotient(b.drives->ratio).cwiseAbs().maxCoeff(), 1e-10);
 
   YAML::Node wrong;
   wrong["weights"].push_back(1.0);
