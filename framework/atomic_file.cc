@@ -47,8 +47,17 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
 }
 
 std::string ReadFileToString(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::invalid_argument(path + ": cannot open file");
+  // One read into a string of the file's size (a stringstream grows by copies: slow for large datasets).
+  const std::streamoff size = in.tellg();
+  if (size >= 0) {
+    std::string text(static_cast<size_t>(size), '\0');
+    in.seekg(0);
+    if (in.read(text.data(), size)) return text;
+    in.clear();
+    in.seekg(0);
+  }
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();

@@ -1,5 +1,7 @@
 #include "framework/csv.h"
 
+#include <algorithm>
+
 #include "framework/error.h"
 
 namespace kincal {
@@ -12,14 +14,20 @@ std::string Trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-CsvRow SplitLine(const std::string& line, int line_number) {
+// Each cell is copied once, already trimmed (a 20000-row target file has a quarter of a million cells).
+CsvRow SplitLine(const std::string& line, int line_number, size_t expected_cells) {
   CsvRow row;
   row.line = line_number;
+  row.cells.reserve(expected_cells);
+  row.columns.reserve(expected_cells);
   size_t start = 0;
   while (true) {
     const size_t comma = line.find(',', start);
-    const std::string cell = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    row.cells.push_back(Trim(cell));
+    const size_t stop = comma == std::string::npos ? line.size() : comma;
+    size_t b = start, e = stop;
+    while (b < e && (line[b] == ' ' || line[b] == '\t' || line[b] == '\r')) ++b;
+    while (e > b && (line[e - 1] == ' ' || line[e - 1] == '\t' || line[e - 1] == '\r')) --e;
+    row.cells.emplace_back(line, b, e - b);
     row.columns.push_back(static_cast<int>(start) + 1);
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -31,6 +39,7 @@ CsvRow SplitLine(const std::string& line, int line_number) {
 
 CsvTable ParseCsv(const std::string& text, const std::string& source) {
   CsvTable table;
+  table.rows.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '\n')));
   bool have_header = false;
   int line_number = 0;
   size_t pos = 0;
@@ -50,7 +59,7 @@ CsvTable ParseCsv(const std::string& text, const std::string& source) {
       if (!have_header) table.comments.push_back(Trim(trimmed.substr(1)));
       continue;
     }
-    CsvRow row = SplitLine(line, line_number);
+    CsvRow row = SplitLine(line, line_number, table.header.cells.size());
     if (!have_header) {
       table.header = row;
       have_header = true;

@@ -162,17 +162,22 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
   c_.noalias() = V.transpose() * g_;
   // Eigenvalues at rounding level carry no information: dropped from the undamped step (pseudo-inverse).
   const double floor = std::max(lambda.maxCoeff(), 0.0) * k * 1e-15;
-  // |dq(mu)|^2 = sum_i w_i c_i^2 / (lambda_i + mu)^2, w_i = 1 (tall: dq = V y) or lambda_i (wide: dq = A^T V y).
-  const auto step_norm = [&](double mu) {
-    double sum = 0.0;
+  // s(mu) = |dq(mu)|^2 = sum_i w_i c_i^2 / (lambda_i + mu)^2, w_i = 1 (tall: dq = V y) or lambda_i (wide:
+  // dq = A^T V y); also returns s'(mu) in *slope.
+  const auto step_norm2 = [&](double mu, double* slope) {
+    double sum = 0.0, derivative = 0.0;
     for (int i = 0; i < k; ++i) {
       const double l = std::max(lambda[i], 0.0);
       if (mu == 0.0 && l <= floor) continue;
       const double y = c_[i] / (l + mu);
-      sum += (tall ? 1.0 : l) * y * y;
+      const double w = tall ? 1.0 : l;
+      sum += w * y * y;
+      derivative -= 2 * w * y * y / (l + mu);
     }
-    return std::sqrt(sum);
+    if (slope) *slope = derivative;
+    return sum;
   };
+  const auto step_norm = [&](double mu) { return std::sqrt(step_norm2(mu, nullptr)); };
   double mu = 0.0;
   step->undamped_norm = step_norm(0.0);
   // |P r|^2 = sum over informative eigenvalues of c_i^2 / lambda_i (tall: c = V^T A^T r) or c_i^2 (wide).
@@ -183,14 +188,16 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
   const double r_norm = tall ? std::sqrt(std::max(residual_norm2_, 0.0)) : g_.norm();
   step->reducible_ratio = r_norm > 0 ? std::sqrt(fit2) / r_norm : 0.0;
   if (step->undamped_norm > radius) {
-    // |dq(mu)| decreases monotonically; |dq(mu)| <= |g| / mu bounds the bracket. Bisection in log(mu).
-    double high = std::max(g_.norm() * (tall ? 1.0 : std::sqrt(std::max(lambda.maxCoeff(), 0.0))) / radius, 1e-300);
-    double low = high * 1e-30;
-    for (int i = 0; i < 200 && high > low * (1 + 1e-12); ++i) {
-      const double mid = std::sqrt(low * high);
-      (step_norm(mid) > radius ? low : high) = mid;
+    // |dq(mu)| = radius: Newton's method on 1 / |dq(mu)| - 1 / radius, which is concave and nearly
+    // linear in mu (More & Sorensen 1983), so that iterates started left of the root (|dq| > radius)
+    // increase monotonically towards it.
+    mu = std::max(lambda.maxCoeff(), 1e-300) * 1e-15;
+    for (int i = 0; i < 100; ++i) {
+      double slope = 0.0;
+      const double norm = std::sqrt(step_norm2(mu, &slope));
+      if (norm <= radius * (1 + 1e-12)) break;
+      mu += 2 * norm * norm * (norm / radius - 1) / std::max(-slope, 1e-300);
     }
-    mu = high;
     step->damped = true;
   }
   step->mu = mu;

@@ -26,14 +26,14 @@ namespace kincal {
 
 struct GaussNewtonOptions {
   int max_iterations = 30;               // accepted steps
-  double position_tolerance = 1e-13;     // m: converged when the position error is at most this ...
-  double orientation_tolerance = 1e-13;  // rad: ... and the orientation error at most this
+  double position_tolerance = 1e-12;     // m: converged when the position error is at most this ...
+  double orientation_tolerance = 1e-12;  // rad: ... and the orientation error at most this
   // Near-singular when sigma_min / sigma_max of the (weighted) linearization falls below this ratio;
   // the step is then limited to trust_radius by damping. 0: never, every step is the plain
   // pseudo-inverse A^+ r (the seed's Delta_theta = A^+ B).
   double singular_ratio = 1e-3;
   // rad: the longest joint step (Euclidean norm); longer undamped steps are damped to it.
-  double trust_radius = 0.1;
+  double trust_radius = 0.3;
   // Halvings tried when a step does not reduce |r|; 0 disables the line search (every step is taken,
   // as in the seed).
   int max_step_halvings = 10;

@@ -17,6 +17,7 @@ bool RandomTargetOptions::IsValid(std::string* why) const {
   if (count < 0) return fail("count must be >= 0");
   if (!(min_sigma_ratio >= 0 && min_sigma_ratio < 1)) return fail("min_sigma_ratio must be in [0, 1)");
   if (!(length_scale > 0)) return fail("length_scale must be > 0");
+  if (!(max_seed_distance > 0)) return fail("max_seed_distance must be > 0");
   return true;
 }
 
@@ -59,7 +60,8 @@ RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, c
       const auto [low, high] = nominal.Limit(j);
       within_limits = within_limits && seed.q[j] >= low && seed.q[j] <= high;
     }
-    if (!seed.converged || !within_limits) {
+    const bool same_branch = (seed.q - q).cwiseAbs().maxCoeff() <= options.max_seed_distance;
+    if (!seed.converged || !within_limits || !same_branch) {
       ++out.rejected;
       continue;
     }

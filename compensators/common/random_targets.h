@@ -2,8 +2,8 @@
 // Random reachable targets for tests, benchmarks and studies of compensators: configurations of the
 // identified (real) robot uniform within the joint limits, the poses they reach, and as seeds the
 // nominal robot's inverse kinematics started from the true configuration (the controller's solution in
-// the same branch). Configurations are rejected when the nominal inverse kinematics does not converge
-// or leaves the joint limits (the controller has no solution there), or when the identified robot's Jacobian is too close to
+// the same branch). Configurations are rejected when the nominal inverse kinematics does not converge,
+// leaves the joint limits or lands on another branch (the controller has no solution there), or when the identified robot's Jacobian is too close to
 // singular (min_sigma_ratio).
 #include <cstdint>
 #include <string>
@@ -23,6 +23,9 @@ struct RandomTargetOptions {
   // of `length_scale`) is below this. 0 keeps every configuration whose nominal IK converges.
   double min_sigma_ratio = 0.0;
   double length_scale = 0.5;     // m
+  // rad: a nominal solution farther than this from the true configuration (in any joint) is another
+  // branch, not the controller's solution for it.
+  double max_seed_distance = 0.5;
   bool IsValid(std::string* why) const;
 };
 

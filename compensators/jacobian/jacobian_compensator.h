@@ -4,12 +4,14 @@
 //   e(q) = (p_a - p_c(q), log(R_a R_c(q)^T))        position, and the rotation's logarithm (axis * angle),
 //                                                   both in the measurement frame (PoseError)
 //   J(q) = KinematicModel::JointJacobian(q)          rows: velocity of the tool point, angular velocity
-//   dq   = (J^T W J + lambda^2 I)^-1 J^T W e         W = diag(1/L^2 (x3), 1 (x3)), L = length_scale
+//   dq   = (J^T W J + mu I)^-1 J^T W e              W = diag(1/L^2 (x3), 1 (x3)), L = length_scale
 //
-// with lambda = 0 away from singular configurations, growing as sigma_min / sigma_max of the weighted
-// Jacobian falls below `singular_ratio` (gauss_newton.h). Since R(q + dq) = exp([J_w dq]x) R(q) to first
-// order, this is Gauss-Newton on e; near the solution the error contracts quadratically. Position-only
-// targets use the three position rows and the minimum-norm step.
+// with mu = 0 wherever the step is short, and near singular configurations (sigma_min / sigma_max of the
+// weighted Jacobian below `singular_ratio`) the smallest mu that keeps |dq| within the trust radius
+// (gauss_newton.h): the damping grows only where sigma_min is small and the error points along it.
+// Since R(q + dq) = exp([J_w dq]x) R(q) to first order, this is Gauss-Newton on e; near the solution the
+// error contracts quadratically. Position-only targets use the three position rows and the
+// minimum-norm step.
 //
 // Compared with the seed's 12 equations (analytic_derivative): the same Jacobian information (the
 // rotation part of the seed's A is [omega_i]x R, i.e. sqrt(2) |omega_i| in Frobenius norm), but 6

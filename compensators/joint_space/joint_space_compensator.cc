@@ -112,6 +112,7 @@ void JointSpaceCompensator::DoPrepare() {
   // max_correction flags what still wanders.
   JacobianCompensator::Options solver_options;
   solver_options.iteration.trust_radius = 0.02;
+  solver_options.iteration.max_iterations = 12;  // 0.24 rad at most: beyond max_correction anyway
   JacobianCompensator solver(solver_options);
   solver.Prepare(nominal(), identified());
 

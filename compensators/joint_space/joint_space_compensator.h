@@ -14,10 +14,15 @@
 // `invariance_tolerance` at any of a few random configurations; for the seed's arm this leaves joints
 // 2..5, a 4-D table. Give `joints` explicitly to force a grid.
 //
-// Accuracy, speed and memory (bench/compensators_bench.cc; the seed's arm, Table 2 as identified): see
-// the table in the header comment of JointSpaceCompensator::Options. The correction is smooth except
-// near the wrist singularity (joint 5 at its singular angle), where dq_4 and dq_6 grow like
-// 1 / sin(q_5 - q_5,singular); cells touching nodes whose solve did not converge report kSingular.
+// Accuracy, speed and memory: compensators/README.md (bench/compensators_bench.cc). On the seed's arm
+// with the defaults (16 points per joint, multilinear, 3.2 MB): lookups reporting kConverged (51 % of
+// random reachable targets) are within 0.15 mm (median), 0.72 mm (95 %), 1.35 mm (max); over all
+// targets the median is 0.40 mm against 7 mm uncompensated. The exact correction grows like
+// 1 / sigma_min near singular configurations (elbow stretched, joint 5 near +-90 deg), where no regular
+// grid follows it: a lookup whose cell touches a node that did not converge, or whose correction
+// exceeds max_correction, reports kSingular (and still returns the interpolated correction); a seed
+// outside the grid reports kFailed with the correction of the nearest edge. kConverged here means "the
+// lookup used reliable nodes", with iterations = 0.
 #include <vector>
 
 #include "compensators/joint_space/correction_table.h"
@@ -30,11 +35,12 @@ class JointSpaceCompensator final : public Compensator {
   struct Options {
     // 1-based joints the grid spans; empty: chosen automatically (see above).
     std::vector<int> joints;
-    // Grid points per joint over the nominal robot's joint limits. Measured on the seed's arm, 4-D
-    // table, random targets with |q5| >= 10 deg (max position / orientation error after compensation):
-    // see README of compensators/joint_space and the benchmark; 17 points, cubic: 2.3 MB.
+    // Grid points per joint over the nominal robot's joint limits; memory = points^d (8 n + 1) bytes.
+    // An even count keeps joint angles 0 and +-90 deg (singular for the seed's arm) off the nodes.
     int points = 16;
-    // "linear" (multilinear, 2^d nodes per lookup) or "cubic" (Catmull-Rom, 4^d nodes).
+    // "linear" (multilinear, 2^d nodes per lookup) or "cubic" (Catmull-Rom, 4^d nodes): cubic is about
+    // 5x more accurate where the correction is smooth, 3-7x slower in 4-D, and its wider footprint meets
+    // unreliable nodes more often.
     std::string interpolation = "linear";
     // rad: nodes whose correction exceeds this in any joint are flagged (near a singular configuration the
     // exact correction may jump to another branch, which interpolation cannot follow).

@@ -89,6 +89,9 @@ TEST_P(CompensatorConformance, ReachesReachableTargets) {
     if (r.report.status == CompensationStatus::kConverged) {
       EXPECT_LE(r.report.position_error, expect.converged_position_bound);
     }
+    if (GetParam() == "none") {  // the baseline commands the controller's solution unchanged
+      EXPECT_LE((r.q_command - target.seed).cwiseAbs().maxCoeff(), 1e-15 * (1 + target.seed.cwiseAbs().maxCoeff()));
+    }
   }
   std::sort(iterations.begin(), iterations.end());
   RecordProperty("median_iterations", iterations[iterations.size() / 2]);
