@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <mutex>
+
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpSolveStatistics.hpp>
 
@@ -48,6 +50,10 @@ struct IpoptRun {
 // scaled_error_model.h); *x ends at Ipopt's final point.
 IpoptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const IpoptOptions& options,
                   int max_iterations, Eigen::VectorXd* x) {
+  // Debian's Ipopt 3.11 solves its linear systems with sequential MUMPS, whose state is global: two solves
+  // at once (a study's thread pool) would corrupt each other. One Ipopt solve at a time, process-wide.
+  static std::mutex ipopt_mutex;
+  const std::lock_guard<std::mutex> lock(ipopt_mutex);
   IpoptRun run;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& o = *app->Options();
