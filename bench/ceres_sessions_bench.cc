@@ -41,8 +41,8 @@ const SessionCase& Case(int sessions) {
     if (m.session == 0) continue;
     // Station k stands elsewhere around the arm: re-measure from its frame.
     const double angle = 2.0 * M_PI * m.session / sessions;
-    const Eigen::Isometry3d T_k_base =
-        PoseFromXyzRpy(Eigen::Vector3d(2.0 * std::cos(angle), 2.0 * std::sin(angle), 0.3), Eigen::Vector3d(0.0, 0.0, angle));
+    const Eigen::Vector3d station(2.0 * std::cos(angle), 2.0 * std::sin(angle), 0.3);
+    const Eigen::Isometry3d T_k_base = PoseFromXyzRpy(station, Eigen::Vector3d(0.0, 0.0, angle));
     m.p = T_k_base * truth.model().base().inverse() * m.p;
   }
   return cases.emplace(sessions, std::move(c)).first->second;

@@ -153,7 +153,8 @@ TEST_P(SelectableAlgorithmTest, ReachesTheLeastSquaresMinimum) {
 
 INSTANTIATE_TEST_SUITE_P(Selectable, SelectableAlgorithmTest,
                          ::testing::Values(std::make_pair(std::string("nlopt"), std::string("{algorithm: LN_BOBYQA}")),
-                                           std::make_pair(std::string("ipopt"), std::string("{hessian: limited_memory}"))),
+                                           std::make_pair(std::string("ipopt"),
+                                                          std::string("{hessian: limited_memory}"))),
                          [](const auto& info) { return info.param.first; });
 
 // Same preparation, same covariance helpers: apart from how they minimise, the four reports coincide.
