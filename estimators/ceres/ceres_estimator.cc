@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <ceres/ceres.h>
 
@@ -30,14 +31,17 @@ bool CeresOptions::IsValid(std::string* why) const {
     return fail("linear_solver sparse_normal_cholesky: this Ceres was built without SuiteSparse");
   }
   if (max_iterations < 0) return fail("max_iterations must be >= 0");
-  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
-  if (!(gradient_tolerance >= 0.0) || !std::isfinite(gradient_tolerance)) return fail("gradient_tolerance must be >= 0");
-  if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  const auto nonnegative = [](double v) { return v >= 0.0 && std::isfinite(v); };
+  if (!nonnegative(function_tolerance)) return fail("function_tolerance must be >= 0");
+  if (!nonnegative(gradient_tolerance)) return fail("gradient_tolerance must be >= 0");
+  if (!nonnegative(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
   if (!(initial_trust_region_radius > 0.0) || !std::isfinite(initial_trust_region_radius)) {
     return fail("initial_trust_region_radius must be positive");
   }
   if (num_threads < 1) return fail("num_threads must be >= 1");
-  if (loss != "none" && loss != "huber" && loss != "cauchy") return fail("loss must be none, huber or cauchy, got '" + loss + "'");
+  if (loss != "none" && loss != "huber" && loss != "cauchy") {
+    return fail("loss must be none, huber or cauchy, got '" + loss + "'");
+  }
   if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
   for (double w : weights) {
     if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
@@ -102,8 +106,10 @@ ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOpt
   std::string solver = options.linear_solver;
   if (solver == "auto") {
     solver = model.sessions_make_it_sparse() && SuiteSparseAvailable() ? "sparse_normal_cholesky" : "dense_qr";
-    if (model.sessions_make_it_sparse() && !SuiteSparseAvailable()) {
-      warnings->push_back("ceres: SuiteSparse is not available; the sparse session problem is solved densely");
+    const std::string warning = "ceres: SuiteSparse is not available; the sparse session problem is solved densely";
+    if (model.sessions_make_it_sparse() && !SuiteSparseAvailable() &&
+        std::find(warnings->begin(), warnings->end(), warning) == warnings->end()) {
+      warnings->push_back(warning);
     }
   }
   if (solver == "dense_qr") so.linear_solver_type = ceres::DENSE_QR;
@@ -143,33 +149,41 @@ void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     FinishErrorModel(prep, prep.problem->InitialX(), prep.initial, identified, report);
     return;
   }
+  // Totals over the solves (a second one follows when identifiability changes at the first solution).
+  int successful = 0, unsuccessful = 0;
+  std::map<std::string, double> seconds;
+  const auto add = [&](const ceres::Solver::Summary& s) {
+    successful += s.num_successful_steps;
+    unsuccessful += s.num_unsuccessful_steps;
+    seconds["total"] += s.total_time_in_seconds;
+    seconds["preprocessor"] += s.preprocessor_time_in_seconds;
+    seconds["minimizer"] += s.minimizer_time_in_seconds;
+    seconds["residual_evaluation"] += s.residual_evaluation_time_in_seconds;
+    seconds["jacobian_evaluation"] += s.jacobian_evaluation_time_in_seconds;
+    seconds["linear_solver"] += s.linear_solver_time_in_seconds;
+    seconds["postprocessor"] += s.postprocessor_time_in_seconds;
+  };
   Eigen::VectorXd x = prep.problem->InitialX();
   ceres::Solver::Summary summary =
       Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &report->warnings);
+  add(summary);
   const double initial_cost = summary.initial_cost;
-  int iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
   if (StatusOf(summary) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
-    summary = Minimize(*prep.problem, options_, weighting, std::max(0, options_.max_iterations - iterations), &x,
-                       &report->warnings);
-    iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+    const int left = std::max(0, options_.max_iterations - successful - unsuccessful);
+    summary = Minimize(*prep.problem, options_, weighting, left, &x, &report->warnings);
+    add(summary);
   }
   report->status = StatusOf(summary);
   report->message = summary.message;
-  report->iterations = iterations;
+  report->iterations = successful + unsuccessful;
   FinishErrorModel(prep, x, weighting, identified, report);
 
   nlohmann::json& d = report->details;
   d["linear_solver"] = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  d["successful_steps"] = summary.num_successful_steps;
-  d["unsuccessful_steps"] = summary.num_unsuccessful_steps;
+  d["successful_steps"] = successful;
+  d["unsuccessful_steps"] = unsuccessful;
   d["initial_cost_m2"] = 2.0 * initial_cost;  // Ceres' cost is half the sum
-  d["times_s"] = {{"total", summary.total_time_in_seconds},
-                  {"preprocessor", summary.preprocessor_time_in_seconds},
-                  {"minimizer", summary.minimizer_time_in_seconds},
-                  {"residual_evaluation", summary.residual_evaluation_time_in_seconds},
-                  {"jacobian_evaluation", summary.jacobian_evaluation_time_in_seconds},
-                  {"linear_solver", summary.linear_solver_time_in_seconds},
-                  {"postprocessor", summary.postprocessor_time_in_seconds}};
+  d["times_s"] = seconds;
   d["loss"] = options_.loss;
 }
 

@@ -86,7 +86,8 @@ CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeig
     for (int b : row_blocks) pointers.push_back(block(b));
     ceres::LossFunction* loss = loss_.get();
     if (!weighting.weights.empty()) {
-      scaled_.push_back(std::make_unique<ceres::ScaledLoss>(loss_.get(), weighting.weights[i], ceres::DO_NOT_TAKE_OWNERSHIP));
+      scaled_.push_back(
+          std::make_unique<ceres::ScaledLoss>(loss_.get(), weighting.weights[i], ceres::DO_NOT_TAKE_OWNERSHIP));
       loss = scaled_.back().get();
     }
     ceres_problem_->AddResidualBlock(new ErrorModelRowCost(problem, i, std::move(row_blocks), &pool_), loss, pointers);

@@ -1,9 +1,10 @@
 #pragma once
 // The error model as an Ipopt TNLP: n = the problem's free parameters in the scaled variables y of
 // scaled_error_model.h, no constraints (m = 0), its bounds, objective f(y) = sum |r|^2 / f_unit, gradient
-// 2 s .* J^T r / f_unit, Hessian (dense lower triangle) the Gauss-Newton 2 S J^T J S / f_unit. Ipopt asks for f, its gradient and the Hessian at the same point in
-// turn, so the last pass over the data is cached with what it computed (cost < gradient < normal
-// equations) and a request reuses it when it asks for no more.
+// 2 s .* J^T r / f_unit, Hessian (dense lower triangle) the Gauss-Newton 2 S J^T J S / f_unit. Ipopt asks
+// for f, its gradient and the Hessian at the same point in turn, so the last pass over the data is cached
+// with what it computed (cost < gradient < normal equations) and a request reuses it when it asks for no
+// more.
 #include <coin/IpTNLP.hpp>
 
 #include <Eigen/Core>

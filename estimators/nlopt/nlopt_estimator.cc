@@ -123,9 +123,10 @@ bool NloptOptions::IsValid(std::string* why) const {
     return fail("algorithm must be one of " + list + ", got '" + algorithm + "'");
   }
   if (max_evaluations < 1) return fail("max_evaluations must be >= 1");
-  if (!(max_time_seconds >= 0.0) || !std::isfinite(max_time_seconds)) return fail("max_time_seconds must be >= 0");
-  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance)) return fail("function_tolerance must be >= 0");
-  if (!(parameter_tolerance >= 0.0) || !std::isfinite(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
+  const auto nonnegative = [](double v) { return v >= 0.0 && std::isfinite(v); };
+  if (!nonnegative(max_time_seconds)) return fail("max_time_seconds must be >= 0");
+  if (!nonnegative(function_tolerance)) return fail("function_tolerance must be >= 0");
+  if (!nonnegative(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
   return true;
 }
 
