@@ -16,8 +16,8 @@
 //
 // Accuracy, speed and memory: compensators/README.md (bench/compensators_bench.cc). On the seed's arm
 // with the defaults (16 points per joint, multilinear, 3.2 MB): lookups reporting kConverged (51 % of
-// random reachable targets) are within 0.15 mm (median), 0.72 mm (95 %), 1.35 mm (max); over all
-// targets the median is 0.40 mm against 7 mm uncompensated. The exact correction grows like
+// random reachable targets) are within 0.15 mm (median), 0.72 mm (95 %), 1.35 mm (max; the tests hold
+// it to 3 mm); over all targets the median is 0.38 mm against 7 mm uncompensated. The exact correction grows like
 // 1 / sigma_min near singular configurations (elbow stretched, joint 5 near +-90 deg), where no regular
 // grid follows it: a lookup whose cell touches a node that did not converge, or whose correction
 // exceeds max_correction, reports kSingular (and still returns the interpolated correction); a seed
