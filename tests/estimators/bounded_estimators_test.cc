@@ -1,8 +1,7 @@
 // nlopt and ipopt specifics: options, bounds that bind (both solve the same bounded problem and agree),
-// the selectable algorithms (NLopt's derivative-free BOBYQA, Ipopt's limited-memory Hessian), limits
-// reported as such; and the four error-model estimators report identically.
+// limits reported as such; and the four error-model estimators report identically. The selectable
+// algorithms are in selectable_algorithms_test.cc.
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "estimators/ipopt/ipopt_estimator.h"
@@ -128,34 +127,6 @@ TEST_P(BoundedEstimatorTest, LimitsAreReportedAsLimits) {
 
 INSTANTIATE_TEST_SUITE_P(Bounded, BoundedEstimatorTest, ::testing::Values("nlopt", "ipopt"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
-
-// The derivative-free BOBYQA and Ipopt's limited-memory BFGS reach the same minimum as least_squares.
-class SelectableAlgorithmTest : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
-
-TEST_P(SelectableAlgorithmTest, ReachesTheLeastSquaresMinimum) {
-  const auto& [name, yaml] = GetParam();
-  const SimulatedCase c = RandomPoseCase(50, 20e-6, 33);
-  EstimationReport reference, report;
-  RunEstimator("least_squares", c.nominal, c.data, &reference, FixtureOptions("least_squares"));
-  RunEstimator(name, c.nominal, c.data, &report, YAML::Load(yaml));
-  EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
-  const auto expected = ByName(reference);
-  double worst = 0.0;
-  for (const auto& p : report.parameters) {
-    if (!p.free) continue;
-    const ParameterEstimate& e = *expected.at(p.name);
-    worst = std::max(worst, std::abs(p.value - e.value) / e.stddev);
-  }
-  EXPECT_LT(worst, 1e-3);
-  std::printf("%s %s: %s\n  largest difference to least_squares %.3g standard deviations\n", name.c_str(),
-              yaml.c_str(), report.BriefReport().c_str(), worst);
-}
-
-INSTANTIATE_TEST_SUITE_P(Selectable, SelectableAlgorithmTest,
-                         ::testing::Values(std::make_pair(std::string("nlopt"), std::string("{algorithm: LN_BOBYQA}")),
-                                           std::make_pair(std::string("ipopt"),
-                                                          std::string("{hessian: limited_memory}"))),
-                         [](const auto& info) { return info.param.first; });
 
 // Same preparation, same covariance helpers: apart from how they minimise, the four reports coincide.
 TEST(ErrorModelEstimators, AllFourReportIdentically) {
