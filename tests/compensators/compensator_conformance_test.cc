@@ -22,7 +22,7 @@ struct Expectation {
   double position = INFINITY;     // m
   double orientation = INFINITY;  // rad
   int max_iterations = 0;
-  // Bound on the position error of lookups reporting kConverged (joint_space, documented in its header).
+  // Bound on the position error of lookups reporting kConverged (joint_space).
   double converged_position_bound = INFINITY;
 };
 
@@ -34,7 +34,9 @@ Expectation ExpectationFor(const std::string& name) {
     e.orientation = 1e-12;  // rad
     e.max_iterations = 8;
   } else if (name == "joint_space") {
-    e.converged_position_bound = 3e-3;
+    // The 8-point test table (TestOptions): 5.9 mm at most over 2000 random targets; the default table's
+    // documented accuracy is checked in joint_space_accuracy_test.
+    e.converged_position_bound = 8e-3;
   }
   return e;  // none, and methods this suite does not know yet: the invariants only
 }
