@@ -48,4 +48,12 @@ int ScaledErrorModel::CountAtBounds(const double* y) const {
   return count;
 }
 
+void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report) {
+  report->details["parameters_at_bounds"] = count;
+  if (count > 0) {
+    report->warnings.push_back(solver + ": " + std::to_string(count) +
+                               " parameter(s) ended on a bound: widen the bound_* options if the model allows");
+  }
+}
+
 }  // namespace kincal

@@ -17,12 +17,17 @@
 
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/normal_equations.h"
+#include "framework/estimator.h"
 
 namespace kincal {
 
 using NamedBounds = std::map<std::string, std::pair<double, double>>;  // name -> (lower, upper), x units
 
 NamedBounds BoundsByName(const ErrorModelProblem& problem);
+
+// Records how many parameters a bounded solver left on a bound (details.parameters_at_bounds) and, if any,
+// warns that the bounds, not the data, decided them.
+void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report);
 
 class ScaledErrorModel {
  public:

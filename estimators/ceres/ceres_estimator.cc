@@ -39,13 +39,7 @@ bool CeresOptions::IsValid(std::string* why) const {
     return fail("initial_trust_region_radius must be positive");
   }
   if (num_threads < 1) return fail("num_threads must be >= 1");
-  if (loss != "none" && loss != "huber" && loss != "cauchy") {
-    return fail("loss must be none, huber or cauchy, got '" + loss + "'");
-  }
-  if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
-  for (double w : weights) {
-    if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
-  }
+  if (!weighting.IsValid(why)) return false;
   return true;
 }
 
@@ -60,26 +54,10 @@ CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
   reader.Get("parameter_tolerance", &o.parameter_tolerance);
   reader.Get("initial_trust_region_radius", &o.initial_trust_region_radius);
   reader.Get("num_threads", &o.num_threads);
-  reader.Get("loss", &o.loss);
-  reader.GetLength("loss_scale", &o.loss_scale);
-  std::vector<std::string> weights;
-  reader.Get("weights", &weights);
-  for (const auto& w : weights) {
-    double v;
-    if (!ParseDouble(w, &v)) reader.Fail("weights", "expected a list of numbers, got '" + w + "'");
-    o.weights.push_back(v);
-  }
+  o.weighting.Read(&reader);
   reader.Get("verbose", &o.verbose);
   reader.Finish();
   return o;
-}
-
-RowWeighting CeresOptions::Weighting() const {
-  RowWeighting w;
-  w.weights = weights;
-  w.loss.type = RobustLoss::TypeFromName(loss);
-  w.loss.scale = loss_scale;
-  return w;
 }
 
 namespace {
@@ -136,19 +114,9 @@ ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOpt
 
 void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {
-  const RowWeighting weighting = options_.Weighting();
-  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
-    throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
-                                std::to_string(data.rows.size()) + " rows");
-  }
+  const RowWeighting weighting = options_.weighting.Weighting(data.rows.size(), "ceres");
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
-  if (prep.problem->num_parameters() == 0) {
-    report->status = EstimationStatus::kConverged;
-    report->message = "no free parameter";
-    report->iterations = 0;
-    FinishErrorModel(prep, prep.problem->InitialX(), prep.initial, identified, report);
-    return;
-  }
+  if (FinishIfNothingFree(prep, identified, report)) return;
   // Totals over the solves (a second one follows when identifiability changes at the first solution).
   int successful = 0, unsuccessful = 0;
   std::map<std::string, double> seconds;
@@ -184,7 +152,7 @@ void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, con
   d["unsuccessful_steps"] = unsuccessful;
   d["initial_cost_m2"] = 2.0 * initial_cost;  // Ceres' cost is half the sum
   d["times_s"] = seconds;
-  d["loss"] = options_.loss;
+  d["loss"] = options_.weighting.loss;
 }
 
 }  // namespace kincal

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "estimators/error_model/error_model.h"
+#include "estimators/error_model/row_weighting_options.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -34,14 +35,11 @@ struct CeresOptions {
   // 1e4's 8 on the benchmark problem).
   double initial_trust_region_radius = 1e6;
   int num_threads = 1;                 // threads evaluating residual blocks
-  std::string loss = "none";           // "none", "huber" or "cauchy" (as least_squares)
-  double loss_scale = 1e-4;            // m (YAML: a length, e.g. 0.1mm)
-  std::vector<double> weights;         // one per dataset row (>= 0), empty = all 1
+  RowWeightingOptions weighting;       // robust loss and per-row weights (keys loss, loss_scale, weights)
   bool verbose = false;                // Ceres' per-iteration log on stdout
 
   bool IsValid(std::string* why) const;
   static CeresOptions FromYaml(const YAML::Node& node);
-  RowWeighting Weighting() const;
 };
 
 class CeresEstimator final : public Estimator {

@@ -187,4 +187,13 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["held_parameters"] = held;
 }
 
+bool FinishIfNothingFree(const PreparedErrorModel& prepared, Robot* identified, EstimationReport* report) {
+  if (prepared.problem->num_parameters() != 0) return false;
+  report->status = EstimationStatus::kConverged;
+  report->message = "no free parameter";
+  report->iterations = 0;
+  FinishErrorModel(prepared, prepared.problem->InitialX(), prepared.initial, identified, report);
+  return true;
+}
+
 }  // namespace kincal

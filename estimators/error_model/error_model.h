@@ -68,4 +68,8 @@ void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd&
 void FinishErrorModel(const PreparedErrorModel& prepared, const Eigen::VectorXd& x, const NormalEquations& at_x,
                       Robot* identified, EstimationReport* report);
 
+// When every parameter is held (nothing to solve), finishes the report as converged after zero
+// iterations and returns true; otherwise returns false and leaves everything untouched.
+bool FinishIfNothingFree(const PreparedErrorModel& prepared, Robot* identified, EstimationReport* report);
+
 }  // namespace kincal

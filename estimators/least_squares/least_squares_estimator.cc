@@ -20,11 +20,7 @@ bool LeastSquaresOptions::IsValid(std::string* why) const {
   if (!(function_tolerance >= 0.0)) return fail("function_tolerance must be >= 0");
   if (!(gradient_tolerance >= 0.0)) return fail("gradient_tolerance must be >= 0");
   if (!(initial_damping >= 0.0) || !std::isfinite(initial_damping)) return fail("initial_damping must be finite and >= 0");
-  if (loss != "none" && loss != "huber" && loss != "cauchy") return fail("loss must be none, huber or cauchy, got '" + loss + "'");
-  if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
-  for (double w : weights) {
-    if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
-  }
+  if (!weighting.IsValid(why)) return false;
   return true;
 }
 
@@ -37,25 +33,9 @@ LeastSquaresOptions LeastSquaresOptions::FromYaml(const YAML::Node& node) {
   reader.Get("function_tolerance", &o.function_tolerance);
   reader.Get("gradient_tolerance", &o.gradient_tolerance);
   reader.Get("initial_damping", &o.initial_damping);
-  reader.Get("loss", &o.loss);
-  reader.GetLength("loss_scale", &o.loss_scale);
-  std::vector<std::string> weights;
-  reader.Get("weights", &weights);
-  for (const auto& w : weights) {
-    double v;
-    if (!ParseDouble(w, &v)) reader.Fail("weights", "expected a list of numbers, got '" + w + "'");
-    o.weights.push_back(v);
-  }
+  o.weighting.Read(&reader);
   reader.Finish();
   return o;
-}
-
-RowWeighting LeastSquaresOptions::Weighting() const {
-  RowWeighting w;
-  w.weights = weights;
-  w.loss.type = RobustLoss::TypeFromName(loss);
-  w.loss.scale = loss_scale;
-  return w;
 }
 
 namespace {
@@ -158,11 +138,7 @@ LmResult Minimize(const ErrorModelProblem& problem, const LeastSquaresOptions& o
 
 void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
                                        Robot* identified, EstimationReport* report) const {
-  const RowWeighting weighting = options_.Weighting();
-  if (!weighting.weights.empty() && weighting.weights.size() != data.rows.size()) {
-    throw std::invalid_argument("least_squares: " + std::to_string(weighting.weights.size()) + " weights for " +
-                                std::to_string(data.rows.size()) + " rows");
-  }
+  const RowWeighting weighting = options_.weighting.Weighting(data.rows.size(), "least_squares");
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
   Eigen::VectorXd x = prep.problem->InitialX();
   NormalEquations ne = prep.initial;
@@ -180,7 +156,7 @@ void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controll
   FinishErrorModel(prep, x, ne, identified, report);
   report->details["initial_cost_m2"] = initial_cost;
   report->details["final_damping"] = lm.lambda;
-  report->details["loss"] = options_.loss;
+  report->details["loss"] = options_.weighting.loss;
 }
 
 }  // namespace kincal

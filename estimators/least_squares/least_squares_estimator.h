@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "estimators/error_model/error_model.h"
+#include "estimators/error_model/row_weighting_options.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -27,13 +28,10 @@ struct LeastSquaresOptions {
   // Initial damping lambda of (J^T W J + lambda diag(J^T W J)) dx = -J^T W r. Small: the bases are
   // registered in closed form, so Gauss-Newton steps are good from the start.
   double initial_damping = 1e-6;
-  std::string loss = "none";           // "none", "huber" or "cauchy"
-  double loss_scale = 1e-4;            // m (YAML: a length, e.g. 0.1mm)
-  std::vector<double> weights;         // one per dataset row (>= 0), empty = all 1
+  RowWeightingOptions weighting;       // robust loss and per-row weights (keys loss, loss_scale, weights)
 
   bool IsValid(std::string* why) const;
   static LeastSquaresOptions FromYaml(const YAML::Node& node);
-  RowWeighting Weighting() const;
 };
 
 class LeastSquaresEstimator final : public Estimator {

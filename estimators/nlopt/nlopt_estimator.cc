@@ -146,14 +146,8 @@ NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
 void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model);
+  if (FinishIfNothingFree(prep, identified, report)) return;
   Eigen::VectorXd x = prep.problem->InitialX();
-  if (prep.problem->num_parameters() == 0) {
-    report->status = EstimationStatus::kConverged;
-    report->message = "no free parameter";
-    report->iterations = 0;
-    FinishErrorModel(prep, x, prep.initial, identified, report);
-    return;
-  }
   const double initial_cost = prep.initial.cost;
   const NamedBounds bounds = BoundsByName(*prep.problem);
   NloptRun run = Minimize(prep, bounds, options_, options_.max_evaluations, &x);
@@ -170,12 +164,8 @@ void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, con
   d["algorithm"] = options_.algorithm;
   d["nlopt_result"] = static_cast<int>(run.result);
   d["evaluations"] = evaluations;
-  d["parameters_at_bounds"] = run.parameters_at_bounds;
   d["initial_cost_m2"] = initial_cost;
-  if (run.parameters_at_bounds > 0) {
-    report->warnings.push_back("nlopt: " + std::to_string(run.parameters_at_bounds) +
-                               " parameter(s) ended on a bound: widen the bound_* options if the model allows");
-  }
+  ReportParametersAtBounds("nlopt", run.parameters_at_bounds, report);
 }
 
 }  // namespace kincal

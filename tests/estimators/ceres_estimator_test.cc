@@ -62,9 +62,9 @@ initial_trust_region_radius: 1e4
 fixed: [base]
 )"));
   EXPECT_EQ(o.linear_solver, "dense_normal_cholesky");
-  EXPECT_EQ(o.loss, "huber");
-  EXPECT_DOUBLE_EQ(o.loss_scale, 50e-6);
-  EXPECT_EQ(o.weights, (std::vector<double>{1, 2}));
+  EXPECT_EQ(o.weighting.loss, "huber");
+  EXPECT_DOUBLE_EQ(o.weighting.loss_scale, 50e-6);
+  EXPECT_EQ(o.weighting.weights, (std::vector<double>{1, 2}));
   EXPECT_EQ(o.num_threads, 2);
   EXPECT_EQ(o.max_iterations, 7);
   EXPECT_DOUBLE_EQ(o.initial_trust_region_radius, 1e4);
@@ -80,7 +80,7 @@ fixed: [base]
   EXPECT_THROW(RunEstimator("ceres", c.nominal, c.data, &report, YAML::Load("{weights: [1, 2, 3]}")),
                std::invalid_argument);
   CeresOptions bad;
-  bad.loss = "tukey";
+  bad.weighting.loss = "tukey";
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("tukey"), std::string::npos);
 }

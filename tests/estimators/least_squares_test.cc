@@ -22,19 +22,19 @@ weights: [1, 0.5, 2]
 )");
   const LeastSquaresOptions o = LeastSquaresOptions::FromYaml(node);
   EXPECT_EQ(o.error_model.fixed, (std::vector<std::string>{"ratios", "a_2"}));
-  EXPECT_EQ(o.loss, "cauchy");
-  EXPECT_DOUBLE_EQ(o.loss_scale, 50e-6);
+  EXPECT_EQ(o.weighting.loss, "cauchy");
+  EXPECT_DOUBLE_EQ(o.weighting.loss_scale, 50e-6);
   EXPECT_EQ(o.max_iterations, 12);
   EXPECT_DOUBLE_EQ(o.error_model.orientation_length, 0.2);
   EXPECT_DOUBLE_EQ(o.error_model.bounds.angle, 1.5 * M_PI / 180.0);
-  EXPECT_EQ(o.weights, (std::vector<double>{1, 0.5, 2}));
+  EXPECT_EQ(o.weighting.weights, (std::vector<double>{1, 0.5, 2}));
   std::string why;
   EXPECT_TRUE(o.IsValid(&why)) << why;
 
   EXPECT_THROW(LeastSquaresOptions::FromYaml(YAML::Load("{los: huber}")), std::invalid_argument);
   EXPECT_THROW(LeastSquaresOptions::FromYaml(YAML::Load("{weights: [1, x]}")), std::invalid_argument);
   LeastSquaresOptions bad;
-  bad.loss = "tukey";
+  bad.weighting.loss = "tukey";
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("tukey"), std::string::npos);
   EXPECT_THROW(Estimators().Create("least_squares", YAML::Load("{loss: tukey}")), std::invalid_argument);
