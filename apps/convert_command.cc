@@ -18,13 +18,7 @@ void AddConvertCommand(CLI::App& app) {
   cmd->add_option("--out", *out, "robot file to write")->required();
   cmd->callback([=]() {
     const Robot robot = ReadRobotFile(*robot_path);
-    Robot result(robot.name, ConvertModel(robot.model(), *to));
-    result.drives = robot.drives;
-    result.limits = robot.limits;
-    result.markers = robot.markers;
-    result.session_bases = robot.session_bases;
-    result.length_unit = robot.length_unit;
-    result.angle_unit = robot.angle_unit;
+    const Robot result = robot.WithModel(ConvertModel(robot.model(), *to));
     WriteRobotFile(result, *out);
     std::cout << "wrote " << *out << " (" << *to << ")\n";
   });

@@ -5,21 +5,12 @@
 namespace kincal {
 
 Robot::Robot(std::string robot_name, std::unique_ptr<KinematicModel> model)
-    : name(std::move(robot_name)), model_(std::move(model)) {}
+    : name(std::move(robot_name)), model_(ModelPtr(std::move(model))) {}
 
-Robot::Robot(const Robot& other)
-    : name(other.name),
-      drives(other.drives),
-      limits(other.limits),
-      markers(other.markers),
-      session_bases(other.session_bases),
-      length_unit(other.length_unit),
-      angle_unit(other.angle_unit),
-      model_(other.model_ ? other.model_->Clone() : nullptr) {}
-
-Robot& Robot::operator=(const Robot& other) {
-  if (this != &other) *this = Robot(other);
-  return *this;
+Robot Robot::WithModel(std::unique_ptr<KinematicModel> model) const {
+  Robot out = *this;
+  out.model_ = ModelPtr(std::move(model));
+  return out;
 }
 
 std::pair<double, double> Robot::Limit(int joint) const {

@@ -19,10 +19,15 @@ class Robot {
  public:
   Robot() = default;
   Robot(std::string name, std::unique_ptr<KinematicModel> model);
-  Robot(const Robot& other);
-  Robot& operator=(const Robot& other);
+  // Copies deep-copy the model; every other member is a value, so a new member needs no copy code.
+  Robot(const Robot& other) = default;
+  Robot& operator=(const Robot& other) = default;
   Robot(Robot&&) = default;
   Robot& operator=(Robot&&) = default;
+
+  // This robot (drives, limits, markers, ...) with another model of the same arm, e.g. the same
+  // kinematics in another convention.
+  Robot WithModel(std::unique_ptr<KinematicModel> model) const;
 
   std::string name;
   std::optional<DriveModel> drives;
@@ -37,7 +42,7 @@ class Robot {
 
   KinematicModel& model() { return *model_; }
   const KinematicModel& model() const { return *model_; }
-  bool has_model() const { return model_ != nullptr; }
+  bool has_model() const { return static_cast<bool>(model_); }
   int dof() const { return model_ ? model_->dof() : 0; }
 
   // Limits in effect (the default when none were given).
@@ -49,7 +54,26 @@ class Robot {
   Eigen::Isometry3d SessionBase(int session) const;
 
  private:
-  std::unique_ptr<KinematicModel> model_;
+  // Owns the model; copying clones it.
+  class ModelPtr {
+   public:
+    ModelPtr() = default;
+    explicit ModelPtr(std::unique_ptr<KinematicModel> p) : p_(std::move(p)) {}
+    ModelPtr(const ModelPtr& o) : p_(o.p_ ? o.p_->Clone() : nullptr) {}
+    ModelPtr& operator=(const ModelPtr& o) {
+      if (this != &o) p_ = o.p_ ? o.p_->Clone() : nullptr;
+      return *this;
+    }
+    ModelPtr(ModelPtr&&) = default;
+    ModelPtr& operator=(ModelPtr&&) = default;
+    KinematicModel& operator*() const { return *p_; }
+    explicit operator bool() const { return p_ != nullptr; }
+    KinematicModel* operator->() const { return p_.get(); }
+
+   private:
+    std::unique_ptr<KinematicModel> p_;
+  };
+  ModelPtr model_;
 };
 
 }  // namespace kincal

@@ -34,14 +34,7 @@ Robot ToMdhRobot(const Robot& robot, const std::string& who) {
   last.translate(Eigen::Vector3d(dh("a", n), 0, 0));
   last.rotate(Eigen::AngleAxisd(dh("alpha", n), Eigen::Vector3d::UnitX()));
   mdh->SetTool(last * model.tool());
-  Robot out(robot.name, std::move(mdh));
-  out.drives = robot.drives;
-  out.limits = robot.limits;
-  out.markers = robot.markers;
-  out.session_bases = robot.session_bases;
-  out.length_unit = robot.length_unit;
-  out.angle_unit = robot.angle_unit;
-  return out;
+  return robot.WithModel(std::move(mdh));
 }
 
 }  // namespace kincal::geometric
