@@ -15,5 +15,6 @@ void AddCompensateCommand(CLI::App& app);
 void AddStudyCommand(CLI::App& app);
 void AddMergeCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
+void AddPredictCommand(CLI::App& app);
 
 }  // namespace kincal::app

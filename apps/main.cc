@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   kincal::app::AddIdentifyCommand(app);
   kincal::app::AddConvertCommand(app);
   kincal::app::AddCompensateCommand(app);
+  kincal::app::AddPredictCommand(app);
   kincal::app::AddMethodsCommand(app);
   kincal::app::AddStudyCommand(app);
   kincal::app::AddMergeCommand(app);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "framework/inverse_kinematics.h"
+#include "framework/joint_readings.h"
 #include "framework/math.h"
 
 namespace kincal {
@@ -39,12 +40,18 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   const auto t0 = std::chrono::steady_clock::now();
   const int n = identified_.dof();
   if (!target.T_meas_tool.matrix().allFinite()) throw std::invalid_argument("compensate: non-finite target");
+  if (target.previous_command.size() != 0 && (target.previous_command.size() != n || !target.previous_command.allFinite())) {
+    throw std::invalid_argument("compensate: the previous command has " + std::to_string(target.previous_command.size()) +
+                                " joints, expected " + std::to_string(n));
+  }
   if (target.seed.size() != 0 && target.seed.size() != n) {
     throw std::invalid_argument("compensate: the seed has " + std::to_string(target.seed.size()) + " joints, expected " +
                                 std::to_string(n));
   }
   CompensationResult result;
+  // A seed from a targets file is the controller's joint readings; its joints are the coupled ones.
   Eigen::VectorXd seed = target.seed;
+  if (seed.size() != 0 && nominal_.coupling.size() != 0) seed = nominal_.coupling * seed;
   if (seed.size() == 0) {
     const InverseKinematicsResult ik =
         SolveInverseKinematics(nominal_, target.T_meas_tool, target.has_orientation, Eigen::VectorXd(), {});
@@ -62,11 +69,18 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   const Vector6d e = PoseError(T, target.T_meas_tool);
   result.report.position_error = e.head<3>().norm();
   result.report.orientation_error = target.has_orientation ? e.tail<3>().norm() : 0.0;
-  result.q_command = result.q_actual;
-  if (identified_.drives) {
-    result.q_command = DriveModel::CommandedFromActual(*nominal_.drives, *identified_.drives, result.q_actual);
-    result.encoders = nominal_.drives->CommandCounts(result.q_command);
+  // The commands that put the identified arm's joints at q_actual: coupling, ratios and joint errors
+  // inverted, the latter coming from the previous target's commands (framework/joint_readings.h).
+  double joint_residual = 0.0;
+  result.q_command = ReadingsFromActual(nominal_, identified_, result.q_actual,
+                                        target.previous_command.size() ? &target.previous_command : nullptr,
+                                        &joint_residual);
+  if (!result.q_command.allFinite() || joint_residual > 1e-9) {
+    result.report.status = CompensationStatus::kFailed;
+    result.report.message = "the joint errors could not be inverted (residual " + std::to_string(joint_residual) + " rad)";
+    if (!result.q_command.allFinite()) result.q_command = result.q_actual;
   }
+  if (identified_.drives) result.encoders = nominal_.drives->CommandCounts(result.q_command);
   result.report.wall_time_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }

@@ -23,7 +23,10 @@ std::string ToString(CompensationStatus status);
 struct CompensationTarget {
   Eigen::Isometry3d T_meas_tool = Eigen::Isometry3d::Identity();
   bool has_orientation = true;  // false: position only (3 equations)
-  Eigen::VectorXd seed;         // the controller's nominal joint solution; empty: solved here
+  Eigen::VectorXd seed;         // the controller's nominal joint solution (its readings); empty: solved here
+  // The commands (readings) of the previous target of the program, which the arm comes from; empty: none.
+  // Joint errors that depend on the move (backlash, approach) are inverted for that move.
+  Eigen::VectorXd previous_command;
 };
 
 struct CompensationReport {

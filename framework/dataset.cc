@@ -30,12 +30,54 @@ bool Dataset::HasSplit() const {
   return false;
 }
 
-Dataset Dataset::Subset(Split which) const {
-  Dataset out = *this;
-  if (which == Split::kNone) return out;
-  out.rows.clear();
-  for (const auto& r : rows) if (r.split == which) out.rows.push_back(r);
+bool Dataset::HasFromColumns() const {
+  for (const auto& r : rows) if (r.from_q) return true;
+  return false;
+}
+
+std::vector<Dataset::Previous> Dataset::PreviousPoses() const {
+  std::vector<Previous> out(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) {
+    if (rows[r].from_q) {
+      out[r] = {static_cast<int>(r), true};
+    } else if (r > 0) {
+      const bool same_pose = rows[r].q.size() == rows[r - 1].q.size() && rows[r].q == rows[r - 1].q;
+      out[r] = same_pose ? out[r - 1] : Previous{static_cast<int>(r - 1), false};
+    }
+  }
   return out;
+}
+
+const Eigen::VectorXd* Dataset::PreviousQ(const Previous& previous) const {
+  if (previous.row < 0) return nullptr;
+  const Measurement& m = rows[static_cast<size_t>(previous.row)];
+  return previous.from_columns ? &*m.from_q : &m.q;
+}
+
+const std::vector<int64_t>* Dataset::PreviousEncoders(const Previous& previous) const {
+  if (previous.row < 0 || previous.from_columns) return nullptr;
+  const auto& e = rows[static_cast<size_t>(previous.row)].encoders;
+  return e.empty() ? nullptr : &e;
+}
+
+Dataset Dataset::SelectRows(const std::vector<int>& indices) const {
+  const std::vector<Previous> previous = PreviousPoses();
+  Dataset out = *this;
+  out.rows.clear();
+  out.rows.reserve(indices.size());
+  for (int i : indices) {
+    Measurement m = rows.at(static_cast<size_t>(i));
+    if (const Eigen::VectorXd* q = PreviousQ(previous[static_cast<size_t>(i)])) m.from_q = *q;
+    out.rows.push_back(std::move(m));
+  }
+  return out;
+}
+
+Dataset Dataset::Subset(Split which) const {
+  if (which == Split::kNone) return *this;
+  std::vector<int> indices;
+  for (size_t i = 0; i < rows.size(); ++i) if (rows[i].split == which) indices.push_back(static_cast<int>(i));
+  return SelectRows(indices);
 }
 
 void Dataset::Validate(int expected_dof) const {
@@ -50,6 +92,9 @@ void Dataset::Validate(int expected_dof) const {
     const std::string row = line > 0 ? "" : "row " + std::to_string(i + 1) + ": ";
     if (m.q.size() != expected_dof) ThrowInputError(source, line, 0, row + "wrong number of joint values");
     if (!m.q.allFinite() || !m.p.allFinite()) ThrowInputError(source, line, 0, row + "non-finite value");
+    if (m.from_q && (m.from_q->size() != expected_dof || !m.from_q->allFinite())) {
+      ThrowInputError(source, line, 0, row + "expected " + std::to_string(expected_dof) + " finite from_q values");
+    }
     if (!m.encoders.empty() && static_cast<int>(m.encoders.size()) != expected_dof) {
       ThrowInputError(source, line, 0, row + "wrong number of encoder values");
     }
@@ -63,8 +108,8 @@ void Dataset::Validate(int expected_dof) const {
 namespace {
 
 struct Columns {
-  std::vector<int> q, enc;
-  std::vector<Unit> q_units;
+  std::vector<int> q, enc, from;
+  std::vector<Unit> q_units, from_units;
   int x = -1, y = -1, z = -1;
   Unit length;
   int qw = -1, qx = -1, qy = -1, qz = -1;
@@ -89,7 +134,7 @@ bool IsIndexed(const std::string& stem, const std::string& prefix, int* index) {
 
 Columns MapColumns(const CsvTable& t, const std::string& source) {
   Columns c;
-  std::map<int, std::pair<int, Unit>> q;
+  std::map<int, std::pair<int, Unit>> q, from;
   std::map<int, int> enc;
   const auto fail = [&](size_t i, const std::string& what) {
     ThrowInputError(source, t.header.line, t.header.columns[i], what);
@@ -108,12 +153,12 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
     else if (name == "session") c.session = static_cast<int>(i);
     else if (name == "split") c.split = static_cast<int>(i);
     else if (IsIndexed(name, "enc", &index)) enc[index] = static_cast<int>(i);
-    else if (SplitUnit(name, &stem, &unit) && IsIndexed(stem, "q", &index)) {
+    else if (SplitUnit(name, &stem, &unit) && (IsIndexed(stem, "q", &index) || IsIndexed(stem, "from_q", &index))) {
       Unit u;
       if (unit == "deg" || unit == "rad") u = AngleUnit(unit);
       else if (unit == "mm" || unit == "m") u = LengthUnit(unit);
       else fail(i, "unknown unit '" + unit + "' in column '" + name + "' (expected deg, rad, mm or m)");
-      q[index] = {static_cast<int>(i), u};
+      (stem[0] == 'f' ? from : q)[index] = {static_cast<int>(i), u};
     } else if (SplitUnit(name, &stem, &unit) && (stem == "x" || stem == "y" || stem == "z")) {
       Unit u;
       try {
@@ -127,7 +172,7 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
       (stem == "x" ? c.x : stem == "y" ? c.y : c.z) = static_cast<int>(i);
     } else {
       fail(i, "unknown column '" + name +
-                  "' (expected q1_deg.., x_mm, y_mm, z_mm, enc1.., qw, qx, qy, qz, sweep, marker, session, split)");
+                  "' (expected q1_deg.., x_mm, y_mm, z_mm, enc1.., qw, qx, qy, qz, sweep, marker, session, split, from_q1_deg..)");
     }
   }
   int expected = 1;
@@ -136,6 +181,16 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
     c.q.push_back(col.first);
     c.q_units.push_back(col.second);
     ++expected;
+  }
+  if (!from.empty()) {
+    if (from.size() != q.size()) {
+      ThrowInputError(source, t.header.line, 1, "expected one from_q column per joint (from_q1_..from_q" + std::to_string(q.size()) + "_)");
+    }
+    for (int i = 1; i <= static_cast<int>(from.size()); ++i) {
+      if (!from.count(i)) ThrowInputError(source, t.header.line, 1, "column from_q" + std::to_string(i) + "_ is missing");
+      c.from.push_back(from[i].first);
+      c.from_units.push_back(from[i].second);
+    }
   }
   if (!enc.empty()) {
     if (static_cast<int>(enc.size()) != static_cast<int>(q.size())) {
@@ -189,6 +244,16 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
     for (int i = 0; i < data.dof; ++i) m.q[i] = number(c.q[i], "a joint angle") * c.q_units[i].to_si;
     m.p = Eigen::Vector3d(number(c.x, "x"), number(c.y, "y"), number(c.z, "z")) * c.length.to_si;
     for (int col : c.enc) m.encoders.push_back(integer(col, "an encoder count"));
+    // A row with every from_q cell empty has no explicit previous pose; a partly filled one is an error.
+    int from_cells = 0;
+    for (int col : c.from) from_cells += !row.cells[col].empty();
+    if (from_cells == data.dof && data.dof > 0) {
+      Eigen::VectorXd from(data.dof);
+      for (int i = 0; i < data.dof; ++i) from[i] = number(c.from[i], "a from_q joint angle") * c.from_units[i].to_si;
+      m.from_q = from;
+    } else if (from_cells != 0) {
+      ThrowInputError(source, row.line, row.columns[c.from[0]], "expected every from_q cell of the row filled, or none");
+    }
     if (c.qw >= 0) {
       Eigen::Quaterniond quat(number(c.qw, "qw"), number(c.qx, "qx"), number(c.qy, "qy"), number(c.qz, "qz"));
       if (std::abs(quat.norm() - 1.0) > 1e-6) {
@@ -229,6 +294,8 @@ std::string DatasetToCsv(const Dataset& data) {
   if (marker) header.push_back("marker");
   if (session) header.push_back("session");
   if (split) header.push_back("split");
+  const bool from = data.HasFromColumns();
+  if (from) for (int i = 1; i <= data.dof; ++i) header.push_back("from_q" + std::to_string(i) + "_" + data.angle_unit.name);
   for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
   out << "\n";
   for (const Measurement& m : data.rows) {
@@ -245,6 +312,7 @@ std::string DatasetToCsv(const Dataset& data) {
     if (marker) add(m.marker);
     if (session) add(std::to_string(m.session));
     if (split) add(m.split == Split::kTrain ? "train" : m.split == Split::kTest ? "test" : "");
+    if (from) for (int i = 0; i < data.dof; ++i) add(m.from_q ? FormatInUnit((*m.from_q)[i], data.angle_unit) : "");
     out << line << "\n";
   }
   return out.str();

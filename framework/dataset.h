@@ -24,6 +24,9 @@ struct Measurement {
   std::string marker;                          // reflector id; "" for the tool origin
   int session = 0;                             // instrument set-up; 0 is the robot file's base
   Split split = Split::kNone;
+  // The commanded joint angles of the pose that led to this one, when the file gives them
+  // (from_q1_deg..from_qN_deg: rows filtered out of a longer sequence); see Dataset::PreviousPoses.
+  std::optional<Eigen::VectorXd> from_q;
   int line = 0;                                // line in the source file (for messages), 0 if made here
 };
 
@@ -42,8 +45,26 @@ struct Dataset {
   bool HasSessions() const;
   bool HasMarkers() const;
   bool HasSplit() const;
-  // Rows whose split is `which` (kNone: every row).
+  bool HasFromColumns() const;
+
+  // The pose that led to each row. Rows are in measurement order, so it is the last earlier row whose
+  // joint values differ (rows that measure several markers at one pose share the move that led there),
+  // unless the row gives it in from_q columns, which then holds for the rows after it at the same pose
+  // too. row = -1: none (the first pose).
+  struct Previous {
+    int row = -1;
+    bool from_columns = false;  // the pose is rows[row].from_q, not rows[row].q
+  };
+  std::vector<Previous> PreviousPoses() const;
+  // The joint values (commanded angles) of a row's previous pose, null for none; `previous` from
+  // PreviousPoses(). The encoder counts of that row, when it has any and the pose is not from columns.
+  const Eigen::VectorXd* PreviousQ(const Previous& previous) const;
+  const std::vector<int64_t>* PreviousEncoders(const Previous& previous) const;
+
+  // Rows whose split is `which` (kNone: every row), and rows by index. Kept rows remember the pose that
+  // led to them in the whole sequence (from_q), so the subset means what the rows meant in place.
   Dataset Subset(Split which) const;
+  Dataset SelectRows(const std::vector<int>& indices) const;
   // Throws std::invalid_argument ("source:line: what") unless every row has dof joints and finite values.
   void Validate(int expected_dof) const;
 };

@@ -43,6 +43,12 @@ class KinematicModel {
   JointType joint_type(int i) const { return joint_types_[i]; }
   // Per-row keys the robot file uses for this convention, e.g. {"alpha", "a", "theta", "d"}.
   virtual std::vector<std::string> RowKeys() const = 0;
+  // Index (0..n, into FramePoses) of the frame whose z axis is joint `joint`'s (0-based) axis, with its
+  // origin on that axis, and which joints 1..joint-1 (not joint itself) move rigidly: joint + 1 for MDH,
+  // Hayati and local POE (the joint turns its own frame about its z), joint for standard DH (the joint
+  // turns about the previous frame's z). -1 when the convention has no such frame; joint-level gravity
+  // terms (models/joint_errors.h) need one.
+  virtual int JointAxisFrame(int joint) const { (void)joint; return -1; }
 
   // ---- Parameters -------------------------------------------------------------------------------
   int num_parameters() const { return static_cast<int>(info_.size()); }

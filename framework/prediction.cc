@@ -5,26 +5,25 @@
 
 namespace kincal {
 
-Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& model, const Measurement& m) {
-  if (!model.drives) return m.q;
-  if (!m.encoders.empty()) {
-    Eigen::VectorXd counts(static_cast<Eigen::Index>(m.encoders.size()));
-    for (size_t i = 0; i < m.encoders.size(); ++i) counts[static_cast<Eigen::Index>(i)] = static_cast<double>(m.encoders[i]);
-    return model.drives->AnglesFromCounts(counts);
-  }
-  if (!controller.drives) return m.q;
-  return DriveModel::ActualFromCommanded(*controller.drives, *model.drives, m.q);
-}
-
 Eigen::Isometry3d PredictToolPose(const Robot& model, const Eigen::VectorXd& q_actual, int session) {
   const Eigen::Isometry3d T_meas_tool = model.model().ForwardKinematics(q_actual);
   if (session == 0 || !model.session_bases.count(session)) return T_meas_tool;
   return model.SessionBase(session) * model.model().base().inverse() * T_meas_tool;
 }
 
-Eigen::Vector3d PredictMarker(const Robot& controller, const Robot& model, const Measurement& m) {
-  const Eigen::VectorXd q = ActualJointAngles(controller, model, m);
+Eigen::Vector3d PredictMarker(const Robot& controller, const Robot& model, const Dataset& data, size_t row,
+                              const std::vector<Dataset::Previous>& previous) {
+  const Measurement& m = data.rows[row];
+  const Eigen::VectorXd q = ActualJointAngles(controller, model, data, row, previous);
   return PredictToolPose(model, q, m.session) * model.MarkerPosition(m.marker);
+}
+
+std::vector<Eigen::Vector3d> PredictMarkers(const Robot& controller, const Robot& model, const Dataset& data) {
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(data.rows.size());
+  for (size_t i = 0; i < data.rows.size(); ++i) out.push_back(PredictMarker(controller, model, data, i, previous));
+  return out;
 }
 
 ErrorStats Summarize(std::vector<double> errors) {
@@ -46,8 +45,10 @@ ErrorStats Summarize(std::vector<double> errors) {
 
 PredictionErrors EvaluatePredictions(const Robot& controller, const Robot& model, const Dataset& data) {
   PredictionErrors out;
-  for (const Measurement& m : data.rows) {
-    const Eigen::VectorXd q = ActualJointAngles(controller, model, m);
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const Measurement& m = data.rows[i];
+    const Eigen::VectorXd q = ActualJointAngles(controller, model, data, i, previous);
     const Eigen::Isometry3d T = PredictToolPose(model, q, m.session);
     out.position.push_back((T * model.MarkerPosition(m.marker) - m.p).norm());
     if (m.orientation) out.orientation.push_back(RotationAngleBetween(T.linear(), m.orientation->toRotationMatrix()));

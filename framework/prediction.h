@@ -4,20 +4,22 @@
 #include <vector>
 
 #include "framework/dataset.h"
+#include "framework/joint_readings.h"
 #include "framework/robot.h"
 
 namespace kincal {
 
-// Actual joint angles of a row according to `model`. With encoder counts and drives, the angle the
-// counts put the joint at with the model's ratios; otherwise the commanded angle scaled by
-// K_controller / K_model (DriveModel::ActualFromCommanded), or unchanged when either has no drives.
-Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& model, const Measurement& m);
+// Actual joint angles of a row: framework/joint_readings.h (coupling, drives, joint errors).
 
 // T_meas_tool of `model` at actual joint angles q, in the frame of the row's session.
 Eigen::Isometry3d PredictToolPose(const Robot& model, const Eigen::VectorXd& q_actual, int session = 0);
 
-// Predicted marker position for a row (session base, marker offset, drives all applied).
-Eigen::Vector3d PredictMarker(const Robot& controller, const Robot& model, const Measurement& m);
+// Predicted marker position of row `row` (coupling, drives, joint errors with the row's previous pose,
+// session base and marker offset all applied); `previous` = data.PreviousPoses().
+Eigen::Vector3d PredictMarker(const Robot& controller, const Robot& model, const Dataset& data, size_t row,
+                              const std::vector<Dataset::Previous>& previous);
+// Predicted marker positions of every row, in order.
+std::vector<Eigen::Vector3d> PredictMarkers(const Robot& controller, const Robot& model, const Dataset& data);
 
 struct ErrorStats {
   int count = 0;

@@ -1,6 +1,9 @@
 #include "framework/robot.h"
 
+#include <cmath>
 #include <stdexcept>
+
+#include <Eigen/SVD>
 
 namespace kincal {
 
@@ -25,6 +28,44 @@ Eigen::Vector3d Robot::MarkerPosition(const std::string& id) const {
     throw std::invalid_argument("robot '" + name + "' has no marker '" + id + "' (add it under `markers:`)");
   }
   return it->second;
+}
+
+Eigen::Vector3d Robot::GravityDirection() const {
+  return gravity ? gravity->normalized() : Eigen::Vector3d(-Eigen::Vector3d::UnitZ());
+}
+
+void Robot::ValidateJointLevel() const {
+  const int n = dof();
+  if (coupling.size() != 0) {
+    if (coupling.rows() != n || coupling.cols() != n) {
+      throw std::invalid_argument("coupling: expected " + std::to_string(n) + " rows of " + std::to_string(n) + " numbers");
+    }
+    if (!coupling.allFinite()) throw std::invalid_argument("coupling: expected finite numbers");
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(coupling);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (!(sv[n - 1] > 1e-9 * sv[0])) {
+      throw std::invalid_argument("coupling: the matrix is singular (readings must determine the joints)");
+    }
+  }
+  if (velocity_limits.size() != 0) {
+    if (velocity_limits.size() != n) throw std::invalid_argument("velocity_limits: expected " + std::to_string(n) + " numbers");
+    for (int i = 0; i < n; ++i) {
+      if (!(velocity_limits[i] > 0.0) || !std::isfinite(velocity_limits[i])) {
+        throw std::invalid_argument("velocity_limits: expected positive finite numbers");
+      }
+    }
+  }
+  if (gravity && (!gravity->allFinite() || !(gravity->norm() > 0.0) || !std::isfinite(gravity->norm()))) {
+    throw std::invalid_argument("gravity: expected a non-zero direction [gx, gy, gz]");
+  }
+  if (joint_errors.uses_velocity_limits() && velocity_limits.size() == 0) {
+    throw std::invalid_argument("joint_errors: approach terms need velocity_limits (one per joint)");
+  }
+  for (const auto& t : joint_errors.terms) {
+    if (t.keys.size() != static_cast<size_t>(t.coefficients.size()) || !t.coefficients.allFinite()) {
+      throw std::invalid_argument("joint_errors: coefficients not bound to the model or not finite");
+    }
+  }
 }
 
 Eigen::Isometry3d Robot::SessionBase(int session) const {

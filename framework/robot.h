@@ -12,6 +12,7 @@
 #include "framework/kinematic_model.h"
 #include "framework/units.h"
 #include "models/drive_model.h"
+#include "models/joint_errors.h"
 
 namespace kincal {
 
@@ -37,6 +38,16 @@ class Robot {
   std::map<std::string, Eigen::Vector3d> markers;
   // T_meas_base per session id (the dataset's `session` column), when the instrument was moved.
   std::map<int, Eigen::Isometry3d> session_bases;
+  // Joint level (issue 11; framework/joint_readings.h applies them, in this order):
+  // actual angles = coupling x readings (row i: joint i as a combination of the controller's readings),
+  // n x n, empty = identity; then the drives' ratio corrections; then the joint errors.
+  Eigen::MatrixXd coupling;
+  // Joint velocity limits, rad/s (m/s for prismatic joints); empty = not given. Approach terms need them.
+  Eigen::VectorXd velocity_limits;
+  // Direction of gravity in the base frame (unit); unset = -z of the base. Gravity terms use it.
+  std::optional<Eigen::Vector3d> gravity;
+  // Joint error terms, bound to the model (JointErrors::Bind) with their coefficients.
+  JointErrors joint_errors;
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
 
@@ -52,6 +63,12 @@ class Robot {
   Eigen::Vector3d MarkerPosition(const std::string& id) const;
   // T_meas_base for a session (the model's base for session 0 or a session without its own base).
   Eigen::Isometry3d SessionBase(int session) const;
+  // The unit gravity direction in the base frame (default -z).
+  Eigen::Vector3d GravityDirection() const;
+  // Throws std::invalid_argument unless the joint-level members fit the model: coupling n x n, finite and
+  // invertible; velocity limits n positive numbers; gravity a non-zero finite vector; joint errors bound
+  // (Bind) to this model, with velocity limits when approach terms are present.
+  void ValidateJointLevel() const;
 
  private:
   // Owns the model; copying clones it.

@@ -1,5 +1,7 @@
 #include "framework/simulator.h"
 
+#include "framework/joint_readings.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -78,17 +80,20 @@ Dataset Simulate(const Robot& nominal, const Robot& truth, const SimulatorOption
   data.length_unit = options.length_unit;
   data.angle_unit = options.angle_unit;
   data.source = "simulation";
+  // The truth's joint level (coupling, ratios, joint errors) applies to the controller's readings, the
+  // joint errors with the previous pose of the sequence (framework/joint_readings.h).
+  // A repeated command is the same pose: it keeps the previous pose of the first (Dataset::PreviousPoses).
+  Eigen::VectorXd last_command, qbar_last, qbar_previous;
   for (const auto& [q_commanded, sweep] : commands) {
     Measurement m;
     m.q = q_commanded;
     m.sweep = sweep;
-    Eigen::VectorXd q_actual = q_commanded;
-    if (nominal.drives) {
-      m.encoders = nominal.drives->CommandCounts(q_commanded);
-      Eigen::VectorXd counts(n);
-      for (int j = 0; j < n; ++j) counts[j] = static_cast<double>(m.encoders[j]);
-      q_actual = truth.drives->AnglesFromCounts(counts);
-    }
+    if (nominal.drives) m.encoders = nominal.drives->CommandCounts(q_commanded);
+    const Eigen::VectorXd qbar = DriveAngles(nominal, truth, m);
+    if (last_command.size() != 0 && !(q_commanded == last_command)) qbar_previous = qbar_last;
+    last_command = q_commanded;
+    qbar_last = qbar;
+    const Eigen::VectorXd q_actual = ApplyJointErrors(truth, qbar, qbar_previous.size() ? &qbar_previous : nullptr);
     const Eigen::Isometry3d T_meas_tool = truth.model().ForwardKinematics(q_actual);
     for (const auto& id : markers) {
       Measurement row = m;

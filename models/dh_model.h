@@ -13,6 +13,7 @@ class DhModel final : public ChainModel {
   explicit DhModel(int revolute_joints) : DhModel(std::vector<JointType>(revolute_joints, JointType::kRevolute)) {}
   std::unique_ptr<KinematicModel> Clone() const override { return std::make_unique<DhModel>(*this); }
   std::string convention() const override { return "dh"; }
+  int JointAxisFrame(int joint) const override { return joint; }
   std::vector<std::string> RowKeys() const override { return {"alpha", "a", "theta", "d"}; }
 };
 

@@ -18,6 +18,7 @@ class HayatiModel final : public ChainModel {
       : HayatiModel(std::vector<JointType>(revolute_joints, JointType::kRevolute)) {}
   std::unique_ptr<KinematicModel> Clone() const override { return std::make_unique<HayatiModel>(*this); }
   std::string convention() const override { return "hayati"; }
+  int JointAxisFrame(int joint) const override { return joint + 1; }
   std::vector<std::string> RowKeys() const override { return {"alpha", "a", "beta", "theta", "d"}; }
 };
 

@@ -14,6 +14,7 @@ class MdhModel final : public ChainModel {
   explicit MdhModel(int revolute_joints) : MdhModel(std::vector<JointType>(revolute_joints, JointType::kRevolute)) {}
   std::unique_ptr<KinematicModel> Clone() const override { return std::make_unique<MdhModel>(*this); }
   std::string convention() const override { return "mdh"; }
+  int JointAxisFrame(int joint) const override { return joint + 1; }
   std::vector<std::string> RowKeys() const override { return {"alpha", "a", "theta", "d"}; }
 };
 

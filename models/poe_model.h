@@ -19,6 +19,7 @@ class PoeModel final : public ChainModel {
   explicit PoeModel(int revolute_joints) : PoeModel(std::vector<JointType>(revolute_joints, JointType::kRevolute)) {}
   std::unique_ptr<KinematicModel> Clone() const override { return std::make_unique<PoeModel>(*this); }
   std::string convention() const override { return "poe"; }
+  int JointAxisFrame(int joint) const override { return joint + 1; }
   std::vector<std::string> RowKeys() const override { return {"x", "y", "z", "roll", "pitch", "yaw", "theta"}; }
 
   // The local POE model with the same forward kinematics as `model` for every q (any convention):

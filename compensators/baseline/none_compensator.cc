@@ -1,5 +1,9 @@
 #include "compensators/baseline/none_compensator.h"
 
+#include <Eigen/LU>
+
+#include "framework/joint_readings.h"
+
 namespace kincal {
 
 NoneCompensator::Options NoneCompensator::Options::FromYaml(const YAML::Node& node) {
@@ -8,11 +12,16 @@ NoneCompensator::Options NoneCompensator::Options::FromYaml(const YAML::Node& no
   return Options();
 }
 
-void NoneCompensator::DoCompensate(const CompensationTarget& /*target*/, const Eigen::VectorXd& seed,
+void NoneCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                                    CompensationResult* result) const {
-  // Commanding the seed through the nominal ratios turns the real joints by seed * K_nom / K_real.
-  result->q_actual = seed;
-  if (identified().drives) result->q_actual = DriveModel::ActualFromCommanded(*nominal().drives, *identified().drives, seed);
+  // The controller commands its own solution: the real joints go where those readings put them
+  // (coupling, ratios and joint errors of the identified arm, framework/joint_readings.h).
+  Eigen::VectorXd readings = target.seed;
+  if (readings.size() == 0) {
+    readings = nominal().coupling.size() ? Eigen::VectorXd(nominal().coupling.partialPivLu().solve(seed)) : seed;
+  }
+  result->q_actual = ActualFromReadings(nominal(), identified(), readings,
+                                        target.previous_command.size() ? &target.previous_command : nullptr);
   result->report.status = CompensationStatus::kConverged;
   result->report.message = "no compensation";
 }

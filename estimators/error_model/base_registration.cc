@@ -63,13 +63,15 @@ std::vector<std::string> InitializeBases(const Robot& controller, const Dataset&
   }
   const Eigen::Isometry3d T_base_meas = model.base().inverse();
   std::map<int, PointRegistration> sessions;
-  for (const Measurement& m : data.rows) {
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const Measurement& m = data.rows[i];
     if (m.session == 0 ? !base_free
                        : (!options.identify_session_bases ||
                           Holds(options, "sessions", "session_" + std::to_string(m.session) + "_"))) {
       continue;
     }
-    const Eigen::VectorXd q = ActualJointAngles(controller, *robot, m);
+    const Eigen::VectorXd q = ActualJointAngles(controller, *robot, data, i, previous);
     const Eigen::Vector3d p_base = T_base_meas * (model.ForwardKinematics(q) * robot->MarkerPosition(m.marker));
     sessions[m.session].Add(p_base, m.p);
   }

@@ -131,6 +131,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
       case ErrorModelParameter::Group::kTool:
       case ErrorModelParameter::Group::kBase: return robot.model().Parameters()[q.model_index];
       case ErrorModelParameter::Group::kRatio: return robot.drives->ratio[q.joint];
+      case ErrorModelParameter::Group::kJointError: return robot.joint_errors.Coefficients()[q.coefficient];
       case ErrorModelParameter::Group::kMarker: return robot.MarkerPosition(q.marker)[q.axis];
       case ErrorModelParameter::Group::kSession: {
         const Eigen::Isometry3d T = robot.SessionBase(q.session);

@@ -31,11 +31,12 @@ int GroupOrder(Group g) {
     case Group::kJoint: return 0;
     case Group::kTool: return 0;
     case Group::kRatio: return 1;
-    case Group::kMarker: return 2;
-    case Group::kBase: return 3;
-    case Group::kSession: return 4;
+    case Group::kJointError: return 2;
+    case Group::kMarker: return 3;
+    case Group::kBase: return 4;
+    case Group::kSession: return 5;
   }
-  return 5;
+  return 6;
 }
 
 }  // namespace
@@ -49,7 +50,8 @@ bool ErrorModelOptions::IsValid(std::string* why) const {
   if (!(identifiability_tolerance > 0.0 && identifiability_tolerance < 1.0)) {
     return fail("identifiability_tolerance must lie in (0, 1)");
   }
-  const double b[] = {bounds.length, bounds.angle, bounds.ratio, bounds.marker, bounds.base_length, bounds.base_angle};
+  const double b[] = {bounds.length,      bounds.angle,      bounds.ratio,      bounds.marker,
+                      bounds.base_length, bounds.base_angle, bounds.joint_error};
   for (double v : b) {
     if (!(v > 0.0) || !std::isfinite(v)) return fail("bounds must be positive and finite");
   }
@@ -71,6 +73,7 @@ void ErrorModelOptions::Read(OptionsReader* reader) {
   reader->GetLength("bound_marker", &bounds.marker);
   reader->GetLength("bound_base_length", &bounds.base_length);
   reader->GetAngleDeg("bound_base_angle_deg", &bounds.base_angle);
+  reader->GetAngleDeg("bound_joint_error_deg", &bounds.joint_error);
 }
 
 ErrorModelProblem::~ErrorModelProblem() = default;
@@ -88,6 +91,10 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   data.Validate(n);
   if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
   if (start.drives) start.drives->Validate(n);
+  start.ValidateJointLevel();
+  joint_errors_active_ = !start.joint_errors.empty();
+  coefficient_joints_ = start.joint_errors.CoefficientJoints();
+  for (const auto& t : start.joint_errors.terms) gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
 
   // Rows: actual angles at the start's ratios, marker and session slots, orientation.
   std::set<std::string> marker_set;
@@ -111,9 +118,23 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   row_session.resize(rows);
   row_orientation.resize(rows);
   bool any_session0 = false, all_marked = true, any_orientation = false;
+  const bool previous_used = start.joint_errors.uses_previous();
+  const std::vector<Dataset::Previous> previous = previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
+  if (previous_used) {
+    per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
+    per_row->has_previous.assign(rows, 0);
+  }
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
-    const Eigen::VectorXd q = ActualJointAngles(controller, start, m);
+    const Eigen::VectorXd q = DriveAngles(controller, start, m);
+    if (previous_used) {
+      if (const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i])) {
+        const std::vector<int64_t>* enc = data.PreviousEncoders(previous[i]);
+        Eigen::Map<Eigen::VectorXd>(&per_row->q_prev_ref[static_cast<size_t>(i) * n], n) =
+            DriveAngles(controller, start, *q_prev, enc ? *enc : std::vector<int64_t>{});
+        per_row->has_previous[i] = 1;
+      }
+    }
     if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
     Eigen::Map<Eigen::VectorXd>(&q_ref[static_cast<size_t>(i) * n], n) = q;
     row_marker[i] = m.marker.empty()
@@ -168,6 +189,28 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       candidates_.push_back(p);
     }
   }
+  {
+    const std::vector<std::string> names = start.joint_errors.CoefficientNames();
+    const std::vector<int> joints = start.joint_errors.CoefficientJoints();
+    const Eigen::VectorXd c = start.joint_errors.Coefficients();
+    int k = 0;
+    for (const auto& term : start.joint_errors.terms) {
+      for (const auto& key : term.keys) {
+        ErrorModelParameter p;
+        p.name = names[k];
+        p.group = Group::kJointError;
+        p.kind = Kind::kCoefficient;
+        p.joint = joints[k];
+        p.coefficient = k;
+        p.unit = term.type == JointErrorTerm::Type::kApproach ? "s"
+                 : term.type == JointErrorTerm::Type::kGravity && key.find('_') == std::string::npos ? "rad/m"
+                                                                                                  : "rad";
+        p.start = c[k];
+        candidates_.push_back(p);
+        ++k;
+      }
+    }
+  }
   for (const auto& id : marker_ids_) {
     const Eigen::Vector3d position = start.MarkerPosition(id);
     for (int a = 0; a < 3; ++a) {
@@ -205,7 +248,8 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
           (name == "base" && p.group == Group::kBase) || (name == "tool" && p.group == Group::kTool) ||
           (name == "ratios" && p.group == Group::kRatio) || (name == "markers" && p.group == Group::kMarker) ||
           (name == "sessions" && p.group == Group::kSession) ||
-          (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1));
+          (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1)) ||
+          (p.group == Group::kJointError && (name == "joint_errors" || p.name.rfind(name + "_", 0) == 0));
       if (group_match || p.name == name) {
         hold(p, "fixed by the options");
         matched = true;
@@ -216,7 +260,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       for (const auto& p : candidates_) list += (list.empty() ? "" : ", ") + p.name;
       throw std::invalid_argument("error model: cannot fix '" + name +
                                   "': not a parameter of this robot and dataset (groups: base, tool, ratios, markers, "
-                                  "sessions, joint_<i>; names: " + list + ")");
+                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " + list + ")");
     }
   }
   ratios_active_ = start.drives && options.identify_ratios && (data.HasEncoders() || controller.drives);
@@ -253,6 +297,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     if (it != reasons.end()) held_.push_back({p, it->second, false});
   }
   Build();
+  MeasureRegressors();
 
   if (num_residuals_ <= num_parameters()) {
     throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(rows) + " rows give " +
@@ -275,12 +320,13 @@ void ErrorModelProblem::Build() {
   const int n = start_.dof();
   model_column_.assign(start_.model().num_parameters(), -1);
   ratio_column_.assign(n, -1);
+  joint_error_column_.assign(start_.joint_errors.num_coefficients(), -1);
   marker_column_.assign(marker_ids_.size(), {-1, -1, -1});
   session_column_.assign(session_ids_.size(), {-1, -1, -1, -1, -1, -1});
   marker_block_.assign(marker_ids_.size(), -1);
   session_block_.assign(session_ids_.size(), -1);
   blocks_.clear();
-  geometry_block_ = ratio_block_ = base_block_ = -1;
+  geometry_block_ = ratio_block_ = joint_error_block_ = base_block_ = -1;
   for (int i = 0; i < num_parameters(); ++i) {
     const ErrorModelParameter& p = free_[i];
     std::string block;
@@ -301,6 +347,11 @@ void ErrorModelProblem::Build() {
         ratio_column_[p.joint] = i;
         block = "ratios";
         block_index = &ratio_block_;
+        break;
+      case Group::kJointError:
+        joint_error_column_[p.coefficient] = i;
+        block = "joint_errors";
+        block_index = &joint_error_block_;
         break;
       case Group::kMarker: {
         const int slot = static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
@@ -346,6 +397,7 @@ std::vector<int> ErrorModelProblem::RowBlocks(int row) const {
   std::vector<int> out;
   if (geometry_block_ >= 0) out.push_back(geometry_block_);
   if (ratio_block_ >= 0) out.push_back(ratio_block_);
+  if (joint_error_block_ >= 0) out.push_back(joint_error_block_);
   const int marker = rows_->marker[row];
   if (marker >= 0 && marker_block_[marker] >= 0) out.push_back(marker_block_[marker]);
   const int session = rows_->session[row];
@@ -361,7 +413,11 @@ Eigen::VectorXd ErrorModelProblem::InitialX() const {
 }
 
 Eigen::VectorXd ErrorModelProblem::CharacteristicScales() const {
-  return Eigen::VectorXd::Constant(num_parameters(), 1e-3);
+  Eigen::VectorXd scales = Eigen::VectorXd::Constant(num_parameters(), 1e-3);
+  for (int i = 0; i < num_parameters(); ++i) {
+    if (free_[i].group == Group::kJointError) scales[i] = 1e-3 / regressor_rms_[free_[i].coefficient];
+  }
+  return scales;
 }
 
 void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) const {
@@ -379,15 +435,47 @@ void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) c
       case Group::kMarker: half = b.marker; break;
       case Group::kBase:
       case Group::kSession: half = length ? b.base_length : b.base_angle; break;
+      case Group::kJointError: half = b.joint_error / regressor_rms_[p.coefficient]; break;
     }
     (*lower)[i] = p.start - half;
     (*upper)[i] = p.start + half;
   }
 }
 
+JointErrorContext ErrorModelProblem::ContextOf(const Workspace& ws) const {
+  JointErrorContext c = JointErrorContextOf(start_);
+  c.model = ws.model.get();
+  return c;
+}
+
+void ErrorModelProblem::MeasureRegressors() {
+  const int K = start_.joint_errors.num_coefficients();
+  std::vector<double> sum2(K, 0.0);
+  if (K > 0) {
+    auto ws = NewWorkspace();
+    const int n = start_.dof();
+    for (int row = 0; row < num_rows(); ++row) {
+      const Eigen::Map<const Eigen::VectorXd> qbar(&rows_->q_ref[static_cast<size_t>(row) * n], n);
+      Eigen::VectorXd previous;
+      if (!rows_->has_previous.empty() && rows_->has_previous[row]) {
+        previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n);
+      }
+      const Eigen::VectorXd phi = EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar,
+                                                     previous.size() ? &previous : nullptr);
+      for (int k = 0; k < K; ++k) sum2[k] += phi[k] * phi[k];
+    }
+  }
+  regressor_rms_.assign(K, 1.0);
+  for (int k = 0; k < K; ++k) {
+    const double rms = std::sqrt(sum2[k] / num_rows());
+    if (rms > 0.0 && std::isfinite(rms)) regressor_rms_[k] = rms;
+  }
+}
+
 std::unique_ptr<ErrorModelProblem::Workspace> ErrorModelProblem::NewWorkspace() const {
   auto ws = std::make_unique<Workspace>();
   ws->model = start_.model().Clone();
+  ws->joint_errors = start_.joint_errors;
   return ws;
 }
 
@@ -407,6 +495,13 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
   ws->scale.setOnes(n);
   for (int i = 0; i < n; ++i) {
     if (ratio_column_[i] >= 0) ws->scale[i] = x[ratio_column_[i]];
+  }
+  if (joint_errors_active_) {
+    Eigen::VectorXd c = start_.joint_errors.Coefficients();
+    for (size_t k = 0; k < joint_error_column_.size(); ++k) {
+      if (joint_error_column_[k] >= 0) c[static_cast<Eigen::Index>(k)] = x[joint_error_column_[k]];
+    }
+    ws->joint_errors.SetCoefficients(c);
   }
   ws->markers.resize(marker_ids_.size());
   for (size_t k = 0; k < marker_ids_.size(); ++k) {
@@ -437,7 +532,23 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   const Measurement& m = data_->rows[row];
   const int n = start_.dof();
   const Eigen::Map<const Eigen::VectorXd> q_ref(&rows_->q_ref[static_cast<size_t>(row) * n], n);
-  ws->q = q_ref.cwiseQuotient(ws->scale);
+  ws->qbar = q_ref.cwiseQuotient(ws->scale);
+  // Joint errors (models/joint_errors.h eq. 1) with the previous pose's drive angles.
+  const bool has_previous = !rows_->has_previous.empty() && rows_->has_previous[row];
+  JointErrorMap& map = ws->joint_error_map;
+  if (joint_errors_active_) {
+    if (has_previous) {
+      ws->qbar_previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n)
+                              .cwiseQuotient(ws->scale);
+    }
+    const JointErrorMap::Want want{jacobian && ratio_block_ >= 0, jacobian && ratio_block_ >= 0 && has_previous,
+                                   jacobian && geometry_block_ >= 0 && gravity_terms_};
+    EvaluateJointErrorMap(ws->joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr, want,
+                          &map);
+    ws->q = map.q;
+  } else {
+    ws->q = ws->qbar;
+  }
   const int marker = rows_->marker[row];
   const Eigen::Vector3d point = marker >= 0 ? ws->markers[marker] : Eigen::Vector3d::Zero();
   Matrix6Xd& Jm = ws->J_model;
@@ -473,27 +584,50 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
 
   Matrix6Xd& J = *jacobian;
   J.setZero(6, num_parameters());
-  for (size_t j = 0; j < model_column_.size(); ++j) {
-    const int c = model_column_[j];
-    if (c < 0) continue;
-    if (session >= 0 && free_[c].group == Group::kBase) continue;
-    J.col(c) = Jm.col(j);
-  }
-  for (int i = 0; i < n; ++i) {
-    const int c = ratio_column_[i];
-    if (c < 0) continue;
-    // q_i = q_ref,i / s_i: dq_i/ds_i = -q_i / s_i.
-    const double dq_ds = -ws->q[i] / ws->scale[i];
-    if (joint_parameter_[i] >= 0) {
-      J.col(c) = Jm.col(joint_parameter_[i]) * dq_ds;
+  // The joint columns at the actual angles (measurement frame of the row's session), for the chain rule
+  // through ratios and joint errors: the model's own columns where a joint adds to a parameter.
+  Matrix6Xd& Jq = ws->J_joints;
+  bool all_joint_parameters = true;
+  for (int i = 0; i < n; ++i) all_joint_parameters = all_joint_parameters && joint_parameter_[i] >= 0;
+  if (joint_errors_active_ || ratio_block_ >= 0) {
+    if (all_joint_parameters) {
+      Jq.resize(6, n);
+      for (int i = 0; i < n; ++i) Jq.col(i) = Jm.col(joint_parameter_[i]);
     } else {
-      Matrix6Xd Jq = ws->model->JointJacobian(ws->q, point);
+      Jq = ws->model->JointJacobian(ws->q, point);
       if (session >= 0) {
         const Eigen::Matrix3d& R = ws->session_from_base0[session].linear();
         Jq.topRows<3>() = R * Jq.topRows<3>();
         Jq.bottomRows<3>() = R * Jq.bottomRows<3>();
       }
-      J.col(c) = Jq.col(i) * dq_ds;
+    }
+  }
+  const bool gravity_geometry = joint_errors_active_ && gravity_terms_ && geometry_block_ >= 0;
+  for (size_t j = 0; j < model_column_.size(); ++j) {
+    const int c = model_column_[j];
+    if (c < 0) continue;
+    if (session >= 0 && free_[c].group == Group::kBase) continue;
+    J.col(c) = Jm.col(j);
+    if (gravity_geometry && free_[c].group != Group::kBase) J.col(c) += Jq * map.dq_dparameters.col(static_cast<Eigen::Index>(j));
+  }
+  for (int i = 0; i < n; ++i) {
+    const int c = ratio_column_[i];
+    if (c < 0) continue;
+    if (!joint_errors_active_) {
+      // q_i = q_ref,i / s_i: dq_i/ds_i = -q_i / s_i.
+      J.col(c) = Jq.col(i) * (-ws->q[i] / ws->scale[i]);
+      continue;
+    }
+    // qbar_i = q_ref,i / s_i (and the previous pose's likewise), then q = qbar + dq(qbar, qbar_previous).
+    Eigen::VectorXd dq_ds = map.dq_dqbar.col(i) * (-ws->qbar[i] / ws->scale[i]);
+    if (has_previous) dq_ds += map.dq_dprevious.col(i) * (-ws->qbar_previous[i] / ws->scale[i]);
+    J.col(c) = Jq * dq_ds;
+  }
+  if (joint_errors_active_) {
+    const std::vector<int>& joints = coefficient_joints_;
+    for (size_t k = 0; k < joint_error_column_.size(); ++k) {
+      const int c = joint_error_column_[k];
+      if (c >= 0) J.col(c) = Jq.col(joints[k]) * map.phi[static_cast<Eigen::Index>(k)];
     }
   }
   if (marker >= 0) {
@@ -523,6 +657,7 @@ void ErrorModelProblem::WriteToRobot(const Eigen::VectorXd& x, Robot* robot) con
   UpdateWorkspace(x, ws.get());
   *robot = start_;
   robot->model().SetParameters(ws->model->Parameters());
+  robot->joint_errors = ws->joint_errors;
   if (robot->drives && ratios_active_) {
     robot->drives->ratio = start_.drives->ratio.cwiseProduct(ws->scale);
   }
@@ -539,6 +674,7 @@ std::string ErrorModelProblem::Unit(const ErrorModelParameter& p) {
     case Kind::kLength: return "m";
     case Kind::kAngle: return "rad";
     case Kind::kRatioScale: return "";
+    case Kind::kCoefficient: return p.unit;
   }
   return "";
 }

@@ -10,6 +10,8 @@
 //                   (1 at the start). The ratio is a joint-angle scale error: q_actual = q_ref / s_i, where
 //                   q_ref is the actual angle with the start robot's ratios (counts 2 pi / (C K_start), or
 //                   q_commanded K_controller / K_start; METHOD.md section 3, DriveModel).
+//   "joint_errors"  the robot's joint error coefficients (models/joint_errors.h), by their names
+//                   ("gravity_2_link3_x", "approach_1_speed", ...); SI (rad/m, rad or s)
 //   "marker:<id>"   "marker_<id>_x/_y/_z": a reflector's position in the tool frame, m (dataset `marker`)
 //   "base"          free base_* parameters: T_meas_base of session 0 (xyz, then roll-pitch-yaw)
 //   "session:<k>"   "session_<k>_x/y/z/roll/pitch/yaw": T_meas_base of session k (dataset `session`), same
@@ -48,6 +50,7 @@
 #include "framework/math.h"
 #include "framework/registry.h"
 #include "framework/robot.h"
+#include "models/joint_errors.h"
 
 namespace kincal {
 
@@ -59,11 +62,16 @@ struct ErrorModelBounds {
   double marker = 0.05;                   // m: marker offsets, and tool_x/y/z (the marker without markers)
   double base_length = 0.10;              // m: base and session-base translations
   double base_angle = 10.0 * M_PI / 180.0;  // rad: base and session-base rotations
+  // rad: joint error coefficients, as the RMS over the dataset of the joint offset each one makes
+  // (its bound is this over the RMS of its regressor).
+  double joint_error = 0.5 * M_PI / 180.0;
 };
 
 struct ErrorModelOptions {
   // Held at their start value: parameter names ("a_2", "base_yaw", "ratio_3", "marker_SMR1_x",
-  // "session_2_z") or groups: "base", "tool", "ratios", "markers", "sessions", "joint_<i>" (row i).
+  // "session_2_z", "gravity_2_link3_x") or groups: "base", "tool", "ratios", "markers", "sessions",
+  // "joint_<i>" (row i), "joint_errors", or a joint error type ("gravity", "harmonic", "backlash",
+  // "approach").
   std::vector<std::string> fixed;
   bool identify_ratios = true;            // when the robot has drives (and the data gives them meaning)
   bool identify_markers = true;           // when the dataset has a `marker` column
@@ -80,18 +88,21 @@ struct ErrorModelOptions {
   bool IsValid(std::string* why) const;
   // Reads the keys above from an estimator's options (fixed, identify_ratios, identify_markers,
   // identify_session_bases, initialize_bases, orientation_length (length), identifiability_tolerance,
-  // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg).
+  // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg,
+  // bound_joint_error_deg).
   void Read(OptionsReader* reader);
 };
 
 struct ErrorModelParameter {
-  enum class Group { kJoint, kTool, kRatio, kMarker, kBase, kSession };
-  enum class Kind { kLength, kAngle, kRatioScale };
+  enum class Group { kJoint, kTool, kRatio, kJointError, kMarker, kBase, kSession };
+  enum class Kind { kLength, kAngle, kRatioScale, kCoefficient };
   std::string name;
   Group group = Group::kJoint;
   Kind kind = Kind::kLength;
   int model_index = -1;   // kJoint, kTool, kBase: index into model().Parameters()
-  int joint = -1;         // kRatio: 0-based joint; kJoint: 0-based row
+  int joint = -1;         // kRatio, kJointError: 0-based joint; kJoint: 0-based row
+  int coefficient = -1;   // kJointError: index into the robot's JointErrors::Coefficients()
+  std::string unit;       // kJointError: "rad/m", "rad" or "s"
   std::string marker;     // kMarker: id
   int session = 0;        // kSession: session id
   int axis = 0;           // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
@@ -123,8 +134,11 @@ class ErrorModelProblem {
     std::vector<Vector6d> session_pose;             // xyz, rpy of each session slot's base
     std::vector<Eigen::Isometry3d> session_base;    // T_meas_base per session slot
     std::vector<Eigen::Isometry3d> session_from_base0;  // T_meas(k)_meas(0) = B_k B_0^-1
-    Eigen::VectorXd q;
+    JointErrors joint_errors;                       // the start robot's terms with x's coefficients
+    Eigen::VectorXd qbar, qbar_previous, q;         // drive angles (and the previous pose's), actual angles
+    JointErrorMap joint_error_map;
     Matrix6Xd J_model;
+    Matrix6Xd J_joints;
   };
 
   // Throws std::invalid_argument for bad input: joint counts, non-finite values, unknown marker ids,
@@ -155,7 +169,8 @@ class ErrorModelProblem {
 
   Eigen::VectorXd InitialX() const;
   // A priori magnitude of each parameter's error, for column and variable scaling: 1 mm for lengths,
-  // 1 mrad for angles, 1e-3 for ratio scales (each moves a marker about 1 mm at 1 m reach).
+  // 1 mrad for angles, 1e-3 for ratio scales (each moves a marker about 1 mm at 1 m reach), and for a
+  // joint error coefficient the value that offsets its joint by 1 mrad RMS over the dataset.
   Eigen::VectorXd CharacteristicScales() const;
   // Start value -/+ the options' bounds.
   void Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) const;
@@ -172,7 +187,7 @@ class ErrorModelProblem {
   // Factor from x's value (and standard deviation) to the value a user reads: 1, except for ratios
   // (K_i = s_i K_i,start).
   double ReportScale(const ErrorModelParameter& p) const;
-  // "m", "rad" or "" (ratios).
+  // "m", "rad" or "" (ratios); a joint error coefficient's unit ("rad/m", "rad", "s").
   static std::string Unit(const ErrorModelParameter& p);
 
   const Robot& start() const { return start_; }
@@ -185,6 +200,9 @@ class ErrorModelProblem {
   // Orders the candidates not held into x, blocks and column maps.
   void Build();
   void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
+  // regressor_rms_ at the start values (scales and bounds of the joint error coefficients).
+  void MeasureRegressors();
+  JointErrorContext ContextOf(const Workspace& ws) const;
 
   Robot start_;
   Robot controller_;
@@ -194,7 +212,9 @@ class ErrorModelProblem {
 
   // Per row, shared by copies (Hold) so that a million rows are stored once.
   struct Rows {
-    std::vector<double> q_ref;     // actual angles with the start's ratios, n per row
+    std::vector<double> q_ref;     // drive angles qbar with the start's ratios, n per row
+    std::vector<double> q_prev_ref;  // the same for the row's previous pose (when joint errors use it)
+    std::vector<char> has_previous;
     std::vector<int> marker;       // index into marker_ids_, -1 for the tool origin
     std::vector<int> session;      // index into session_ids_, -1 for session 0
     std::vector<char> orientation;
@@ -211,11 +231,17 @@ class ErrorModelProblem {
   std::vector<ParameterBlock> blocks_;
   std::vector<int> model_column_;   // per model parameter: x index or -1
   std::vector<int> ratio_column_;   // per joint: x index or -1
+  std::vector<int> joint_error_column_;  // per joint error coefficient: x index or -1
+  std::vector<double> regressor_rms_;    // per joint error coefficient: RMS of its regressor over the rows
   std::vector<std::array<int, 3>> marker_column_;   // per marker slot and axis: x index or -1
   std::vector<std::array<int, 6>> session_column_;  // per session slot and axis: x index or -1
   std::vector<int> marker_block_;   // per marker slot: block index or -1
   std::vector<int> session_block_;  // per session slot: block index or -1
-  int geometry_block_ = -1, ratio_block_ = -1, base_block_ = -1;
+  int geometry_block_ = -1, ratio_block_ = -1, joint_error_block_ = -1, base_block_ = -1;
+  // Joint error terms in use (a copy of the start's), their regressors' needs.
+  bool joint_errors_active_ = false;
+  bool gravity_terms_ = false;
+  std::vector<int> coefficient_joints_;  // per joint error coefficient: the 0-based joint it offsets
 };
 
 }  // namespace kincal

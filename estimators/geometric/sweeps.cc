@@ -67,7 +67,7 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     if (m.sweep <= 0 || m.marker != set.marker) continue;
     const int j = m.sweep;
     if (j > n) ThrowInputError(RowName(data, r) + ": " + who + ": sweep index " + std::to_string(j) + " out of range 1.." + std::to_string(n));
-    const Eigen::VectorXd x = ActualJointAngles(controller, start, m);
+    const Eigen::VectorXd x = DriveAngles(controller, start, m);
     if (!have_cal) {
       have_cal = true;
       set.q_cal = m.q;

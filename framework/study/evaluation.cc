@@ -27,15 +27,11 @@ double Median(std::vector<double> v) {
 
 YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::Node() : YAML::Load(text); }
 
-// Where the true arm's joints go when the controller receives a compensation's commands.
-Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r) {
-  if (!truth.drives) return r.q_command;
-  if (!r.encoders.empty()) {
-    Eigen::VectorXd counts(static_cast<Eigen::Index>(r.encoders.size()));
-    for (size_t i = 0; i < r.encoders.size(); ++i) counts[static_cast<Eigen::Index>(i)] = static_cast<double>(r.encoders[i]);
-    return truth.drives->AnglesFromCounts(counts);
-  }
-  return DriveModel::ActualFromCommanded(*nominal.drives, *truth.drives, r.q_command);
+// Where the true arm's joints go when the controller receives a compensation's commands (encoder counts
+// when it has drives), coming from the previous target's commands (framework/joint_readings.h).
+Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r,
+                            const Eigen::VectorXd* previous_command) {
+  return ActualFromReadings(nominal, truth, r.q_command, previous_command, truth.drives ? r.encoders : std::vector<int64_t>{});
 }
 
 std::string WorstStatus(const std::vector<EstimationReport>& reports) {
@@ -293,12 +289,21 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
     row.note = note;
     if (estimated) {
       std::vector<double> position, orientation;
+      // The targets are a program: each is reached from the one before.
+      Dataset program;
+      program.dof = d.nominal.dof();
       for (const ValidationTarget& target : d.targets[v]) {
         Measurement m;
         m.q = target.q_nominal;
         if (d.nominal.drives) m.encoders = d.nominal.drives->CommandCounts(m.q);
-        const Eigen::Isometry3d T_truth = d.truth.model().ForwardKinematics(ActualJointAngles(d.nominal, d.truth, m));
-        const Eigen::Isometry3d T_model = identified.model().ForwardKinematics(ActualJointAngles(d.nominal, identified, m));
+        program.rows.push_back(std::move(m));
+      }
+      const std::vector<Dataset::Previous> previous = program.PreviousPoses();
+      for (size_t t = 0; t < program.rows.size(); ++t) {
+        const Eigen::Isometry3d T_truth =
+            d.truth.model().ForwardKinematics(ActualJointAngles(d.nominal, d.truth, program, t, previous));
+        const Eigen::Isometry3d T_model =
+            identified.model().ForwardKinematics(ActualJointAngles(d.nominal, identified, program, t, previous));
         position.push_back((T_truth.translation() - T_model.translation()).norm());
         if (d.orientation[v]) orientation.push_back(RotationAngleBetween(T_truth.linear(), T_model.linear()));
       }
@@ -330,16 +335,20 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
         std::vector<CompensationReport> reports;
         double seconds = 0.0;
         const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
+        Eigen::VectorXd previous_command;  // the program's previous target, in order
         for (size_t t = 0; t < d.targets[v].size(); ++t) {
           const ValidationTarget& target = d.targets[v][t];
           CompensationTarget goal;
           goal.T_meas_tool = target.T_meas_tool;
           goal.has_orientation = d.orientation[v];
           goal.seed = target.q_nominal;
+          goal.previous_command = previous_command;
           CompensationResult r = compensator->Compensate(goal);
           seconds += r.report.wall_time_seconds;
           if (r.report.status == CompensationStatus::kConverged) ++row.converged;
-          const Eigen::VectorXd q_truth = TruthAngles(d.nominal, d.truth, r);
+          const Eigen::VectorXd q_truth =
+              TruthAngles(d.nominal, d.truth, r, previous_command.size() ? &previous_command : nullptr);
+          previous_command = r.q_command;
           const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
           position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
           if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));

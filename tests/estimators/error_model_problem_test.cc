@@ -154,7 +154,7 @@ TEST(ErrorModelProblem, WrittenRobotPredictsWhatTheResidualsSay) {
   for (int i = 0; i < problem.num_rows(); ++i) {
     problem.EvaluateRow(i, x, ws.get(), &r, nullptr);
     const Measurement& m = c.data.rows[i];
-    const Eigen::Vector3d predicted = PredictMarker(c.controller, written, m);
+    const Eigen::Vector3d predicted = PredictMarker(c.controller, written, c.data, i, c.data.PreviousPoses());
     EXPECT_LT((predicted - m.p - r.head<3>()).norm(), 1e-12) << "row " << i;
   }
 }
@@ -276,7 +276,7 @@ TEST(BaseRegistration, FindsTheTrackerFrameOfEachSession) {
   for (size_t i = 0; i < data.rows.size(); i += 2) {
     Measurement& m = data.rows[i];
     m.session = 4;
-    const Eigen::VectorXd q = ActualJointAngles(truth, truth, m);
+    const Eigen::VectorXd q = DriveAngles(truth, truth, m);
     m.p = PredictToolPose(truth, q, 4) * truth.MarkerPosition("");
   }
   Robot start = testing::SeedNominal();

@@ -22,8 +22,9 @@ class BaseKabschEstimator final : public Estimator {
     const int n = static_cast<int>(data.rows.size());
     if (n < 3) throw std::invalid_argument("base_kabsch needs at least 3 rows");
     Eigen::Matrix3Xd predicted(3, n), measured(3, n);
+    const std::vector<Eigen::Vector3d> markers = PredictMarkers(controller, start, data);
     for (int i = 0; i < n; ++i) {
-      predicted.col(i) = PredictMarker(controller, start, data.rows[i]);
+      predicted.col(i) = markers[i];
       measured.col(i) = data.rows[i].p;
     }
     const Eigen::Vector3d cp = predicted.rowwise().mean(), cm = measured.rowwise().mean();

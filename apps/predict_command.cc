@@ -1,0 +1,73 @@
+// kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml]
+// Where the robot model puts each measured marker: one row per dataset row, in order, so users can look at
+// their own residuals. The joint level (coupling, drives, joint errors with each row's previous pose)
+// applies as everywhere (framework/joint_readings.h).
+#include <cstdio>
+#include <sstream>
+
+#include "apps/commands.h"
+#include "framework/atomic_file.h"
+#include "framework/dataset.h"
+#include "framework/prediction.h"
+#include "framework/robot_file.h"
+
+namespace kincal::app {
+
+void AddPredictCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("predict", "predict the measured position of every dataset row (x_mm, y_mm, z_mm)");
+  struct Args {
+    std::string robot, data, out, nominal;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--robot", a->robot, "robot file (YAML): usually an identified robot")->required();
+  cmd->add_option("--data", a->data, "dataset (CSV)")->required();
+  cmd->add_option("--out", a->out, "predictions to write (CSV)")->required();
+  cmd->add_option("--nominal", a->nominal,
+                  "the controller's robot, whose ratios turned the commanded angles into motor counts "
+                  "(default: the robot itself; matters only for datasets without encoder counts)");
+  cmd->callback([a]() {
+    const Robot robot = ReadRobotFile(a->robot);
+    const Robot controller = a->nominal.empty() ? robot : ReadRobotFile(a->nominal);
+    const Dataset data = ReadDataset(a->data);
+    data.Validate(robot.dof());
+    if (controller.dof() != robot.dof()) {
+      throw std::invalid_argument(a->nominal + ": the nominal robot has " + std::to_string(controller.dof()) +
+                                  " joints, " + a->robot + " has " + std::to_string(robot.dof()));
+    }
+    for (size_t i = 0; i < data.rows.size(); ++i) {
+      try {
+        robot.MarkerPosition(data.rows[i].marker);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(a->data + ":" + std::to_string(data.rows[i].line) + ": " + e.what());
+      }
+    }
+    const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
+    const Unit mm = LengthUnit("mm");
+    const bool marker = data.HasMarkers(), split = data.HasSplit(), session = data.HasSessions();
+    double sum2 = 0.0;
+    WriteFileAtomically(a->out, [&](std::ostream& out) {
+      out << "# kincal predict: " << a->robot << " on " << a->data << "; d = predicted - measured\n";
+      out << "x_mm,y_mm,z_mm";
+      if (marker) out << ",marker";
+      if (split) out << ",split";
+      if (session) out << ",session";
+      out << ",dx_mm,dy_mm,dz_mm,error_mm\n";
+      for (size_t i = 0; i < data.rows.size(); ++i) {
+        const Measurement& m = data.rows[i];
+        const Eigen::Vector3d& p = predicted[i];
+        const Eigen::Vector3d d = p - m.p;
+        sum2 += d.squaredNorm();
+        out << FormatInUnit(p.x(), mm) << "," << FormatInUnit(p.y(), mm) << "," << FormatInUnit(p.z(), mm);
+        if (marker) out << "," << m.marker;
+        if (split) out << "," << (m.split == Split::kTrain ? "train" : m.split == Split::kTest ? "test" : "");
+        if (session) out << "," << m.session;
+        out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
+            << FormatInUnit(d.norm(), mm) << "\n";
+      }
+    });
+    const double rms = data.rows.empty() ? 0.0 : std::sqrt(sum2 / data.rows.size());
+    std::printf("wrote %s: %zu rows, RMS error %.6g mm\n", a->out.c_str(), data.rows.size(), rms * 1e3);
+  });
+}
+
+}  // namespace kincal::app
