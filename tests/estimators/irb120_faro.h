@@ -69,13 +69,13 @@ inline bool LoadIrb120Faro(const std::string& folder, int smr, Dataset* data) {
   return true;
 }
 
-// Even rows (0, 2, ...) and odd rows, the data README's split.
+// Even rows (0, 2, ...) and odd rows, the data README's split. Each row keeps the pose measured before
+// it in the whole sequence (Dataset::SelectRows), which joint errors of the move need.
 inline void SplitEvenOdd(const Dataset& all, Dataset* even, Dataset* odd) {
-  *even = all;
-  *odd = all;
-  even->rows.clear();
-  odd->rows.clear();
-  for (size_t i = 0; i < all.rows.size(); ++i) (i % 2 == 0 ? even : odd)->rows.push_back(all.rows[i]);
+  std::vector<int> e, o;
+  for (size_t i = 0; i < all.rows.size(); ++i) (i % 2 == 0 ? e : o).push_back(static_cast<int>(i));
+  *even = all.SelectRows(e);
+  *odd = all.SelectRows(o);
 }
 
 }  // namespace kincal::testing
