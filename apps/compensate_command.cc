@@ -31,8 +31,8 @@ std::vector<CompensationTarget> TargetsFrom(const Dataset& data, int dof) {
   }
   if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit()) {
     ThrowInputError(data.source, 0, 0,
-                    "targets take x, y, z, optionally qw, qx, qy, qz and seeds q1..qN; enc, sweep, marker, session "
-                    "and split columns have no meaning here");
+                    "targets take x, y, z, optionally qw, qx, qy, qz, seeds q1..qN and from_q1..from_qN; enc, "
+                    "sweep, marker, session and split columns have no meaning here");
   }
   if (data.rows.empty()) ThrowInputError(data.source, 0, 0, "no targets");
   std::vector<CompensationTarget> targets(data.rows.size());
@@ -79,7 +79,17 @@ void AddCompensateCommand(CLI::App& app) {
     const auto t_prepared = Clock::now();
     std::vector<CompensationResult> results;
     results.reserve(targets.size());
-    for (const CompensationTarget& target : targets) results.push_back(compensator->Compensate(target));
+    // The targets are a program: each is reached from the one before (its commands), unless the file
+    // gives the pose the arm comes from (from_q columns). Joint errors of the move depend on it.
+    for (size_t i = 0; i < targets.size(); ++i) {
+      CompensationTarget target = targets[i];
+      if (data.rows[i].from_q) {
+        target.previous_command = *data.rows[i].from_q;
+      } else if (i > 0) {
+        target.previous_command = results.back().q_command;
+      }
+      results.push_back(compensator->Compensate(target));
+    }
     const auto t_solved = Clock::now();
 
     const int n = nominal.dof();
