@@ -65,7 +65,8 @@ struct ArcFit {
   // circle from the angle regression (radius x angle residual), m.
   double axial_rms = 0.0, radial_rms = 0.0, tangential_rms = 0.0;
   double residual_sum_squares = 0.0;                 // of all three components, m^2
-  int degrees_of_freedom = 0;                        // 3 stops - 8 (plane 3, circle 3, regression 2)
+  // 3 stops - 8 (plane 3, circle 3, regression 2); FitAxis, M markers: 3 M stops - 3 M - 5.
+  int degrees_of_freedom = 0;
   int iterations = 0;
   bool converged = true;
 
