@@ -183,3 +183,18 @@ validation:
     summary = kincal.run_study(study, tmp_path / "out", threads=1)
     assert summary["items_run"] == summary["items_total"] == 2  # the baseline `none` and least_squares
     assert (tmp_path / "out" / "report.md").exists()
+
+
+def ratios(path):
+    """The `drives: ratio: [...]` list of a robot file, read as text."""
+    line = next(l for l in path.read_text().splitlines() if l.strip().startswith("ratio:"))
+    return np.array([float(v) for v in line.split("[")[1].split("]")[0].split(",")])
+
+
+def test_actual_angles_apply_the_drive_ratios(nominal, truth, robots):
+    q = np.radians([10, -20, 30, 40, -50, 60])
+    assert np.array_equal(nominal.actual_angles(q), q)  # its own controller, no joint level: the readings
+    actual = truth.actual_angles(q, controller=nominal)
+    # The truth turns by K_nominal / K_truth of what the controller commands (METHOD.md section 3).
+    expected = q * ratios(robots / "seed_nominal.yaml") / ratios(robots / "seed_identified.yaml")
+    assert np.allclose(actual, expected, rtol=1e-14, atol=0) and not np.allclose(actual, q, rtol=1e-4)
