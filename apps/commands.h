@@ -17,5 +17,6 @@ void AddMergeCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddPredictCommand(CLI::App& app);
 void AddImportCommand(CLI::App& app);
+void AddIkCommand(CLI::App& app);
 
 }  // namespace kincal::app

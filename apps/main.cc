@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   kincal::app::AddImportCommand(app);
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddPredictCommand(app);
+  kincal::app::AddIkCommand(app);
   kincal::app::AddMethodsCommand(app);
   kincal::app::AddStudyCommand(app);
   kincal::app::AddMergeCommand(app);
