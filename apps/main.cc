@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
   kincal::app::AddConvertCommand(app);
+  kincal::app::AddImportCommand(app);
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddPredictCommand(app);
   kincal::app::AddIkCommand(app);
