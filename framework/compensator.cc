@@ -52,12 +52,17 @@ void Compensator::RestartFromBranches(const CompensationTarget& target, const Ei
     return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
   });
   int iterations = result->report.iterations;
+  // Only the controller's branch counts: a solution farther than this from the seed in any joint is
+  // another configuration (the arm would turn over), not a compensation of this one.
+  constexpr double kSameBranch = 0.5;  // rad
   for (const IkSolution& start : starts) {
+    if ((start.q - seed).cwiseAbs().maxCoeff() > kSameBranch) continue;
     CompensationResult trial;
     trial.q_actual = start.q;
     DoCompensate(target, start.q, &trial);
     iterations += trial.report.iterations;
-    if (trial.report.status == CompensationStatus::kConverged && trial.q_actual.allFinite()) {
+    if (trial.report.status == CompensationStatus::kConverged && trial.q_actual.allFinite() &&
+        (trial.q_actual - seed).cwiseAbs().maxCoeff() <= kSameBranch) {
       trial.report.seed_computed = result->report.seed_computed;
       trial.report.message = "converged from the nominal branch " + std::to_string(start.branch) +
                              " of the target corrected by the pose error at the seed";
