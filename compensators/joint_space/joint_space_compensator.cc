@@ -15,19 +15,6 @@ namespace {
 
 using Pose34 = PoseExpansion::Pose34;
 
-Eigen::Matrix4d Homogeneous(const Pose34& T) {
-  Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
-  M.topRows<3>() = T;
-  M(3, 3) = 1.0;
-  return M;
-}
-
-Eigen::Matrix4d Derivative(const Pose34& dT) {
-  Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
-  M.topRows<3>() = dT;
-  return M;
-}
-
 }  // namespace
 
 JointSpaceCompensator::JointSpaceCompensator() : JointSpaceCompensator(Options()) {}
@@ -84,6 +71,15 @@ void JointSpaceCompensator::DoPrepare() {
                                           [&](const Eigen::VectorXd& q) {
                                             return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv);
                                           }));
+  }
+
+  // Screws at q = 0: dX_j/dq_j at 0 is [omega_j]x | v_j, X_j(0) being the identity.
+  screws_.resize(6, n);
+  for (int j = 0; j < n; ++j) {
+    Pose34 X, dX;
+    factors_[j].EvaluateSingle(0.0, &X, &dX);
+    screws_.col(j).head<3>() = dX.col(3);
+    screws_.col(j).tail<3>() = 0.5 * Eigen::Vector3d(dX(2, 1) - dX(1, 2), dX(0, 2) - dX(2, 0), dX(1, 0) - dX(0, 1));
   }
 
   // The fit against the model at random configurations (every angle for revolute joints: the series
@@ -144,31 +140,31 @@ void JointSpaceCompensator::DoPrepare() {
 
 bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const {
   const int n = static_cast<int>(q.size());
-  // prefix[j] = X_1 .. X_j (prefix[0] = I); the pose is prefix[n] T(0).
-  Eigen::Matrix4d prefix[kMaxJoints + 1], factor[kMaxJoints], d_factor[kMaxJoints];
-  prefix[0].setIdentity();
+  // P = X_1 .. X_j as rotation and translation; the spatial twist of joint j is its screw at q = 0
+  // carried by X_1 .. X_(j-1) (Murray, Li and Sastry eq. 3.54): omega = R_P omega_j,
+  // v = R_P v_j + p_P x omega, v being the velocity of the point at the frame's origin.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
   bool inside = true;
+  Eigen::Matrix<double, 6, kMaxJoints> twist;
   for (int j = 0; j < n; ++j) {
-    Pose34 X, dX;
-    inside = factors_[j].EvaluateSingle(q[j], &X, J ? &dX : nullptr) && inside;
-    factor[j] = Homogeneous(X);
-    prefix[j + 1].noalias() = prefix[j] * factor[j];
-    if (J) d_factor[j] = Derivative(dX);
+    if (J) {
+      twist.col(j).tail<3>() = R * screws_.col(j).tail<3>();
+      twist.col(j).head<3>() = R * screws_.col(j).head<3>() + p.cross(twist.col(j).tail<3>());
+    }
+    Pose34 X;
+    inside = factors_[j].EvaluateSingle(q[j], &X) && inside;
+    p += R * X.col(3);
+    R = R * X.leftCols<3>();
   }
-  const Eigen::Matrix4d T = prefix[n] * T_zero_;
-  T_meas_tool->matrix() = T;
+  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
+  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
   if (!J) return inside;
   J->resize(6, n);
-  const Eigen::Matrix3d R_transpose = T.topLeftCorner<3, 3>().transpose();
-  // dT/dq_j = prefix[j] dX_j suffix, suffix = X_(j+1) .. X_n T(0), accumulated from the tool back.
-  Eigen::Matrix4d suffix = T_zero_;
-  for (int j = n - 1; j >= 0; --j) {
-    const Eigen::Matrix4d dT = prefix[j] * d_factor[j] * suffix;
-    // dp, and omega from dR = [omega]x R.
-    J->col(j).head<3>() = dT.topRightCorner<3, 1>();
-    const Eigen::Matrix3d W = dT.topLeftCorner<3, 3>() * R_transpose;
-    J->col(j).tail<3>() = 0.5 * Eigen::Vector3d(W(2, 1) - W(1, 2), W(0, 2) - W(2, 0), W(1, 0) - W(0, 1));
-    suffix = factor[j] * suffix;
+  const Eigen::Vector3d p_tool = T_meas_tool->translation();
+  for (int j = 0; j < n; ++j) {
+    J->col(j).tail<3>() = twist.col(j).tail<3>();
+    J->col(j).head<3>() = twist.col(j).head<3>() + twist.col(j).tail<3>().cross(p_tool);
   }
   return inside;
 }
