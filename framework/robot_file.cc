@@ -1,5 +1,8 @@
 #include "framework/robot_file.h"
 
+#include <cctype>
+#include <cstdio>
+
 #include <set>
 #include <sstream>
 
@@ -206,6 +209,32 @@ std::string IsometryText(const Eigen::Isometry3d& T, const Unit& length, const U
   return "{xyz: " + List(xyz) + ", rpy: " + List(r) + "}";
 }
 
+// A name or marker id as YAML that reads back to the same string: plain when it is a simple word,
+// double-quoted with escapes otherwise ("a: b", "#1", "- x", "null", "", leading spaces, control bytes).
+std::string YamlString(const std::string& text) {
+  bool plain = !text.empty() && text != "null" && text != "Null" && text != "NULL" && text != "~";
+  for (size_t i = 0; i < text.size() && plain; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    plain = std::isalnum(c) || c == '_' || (i > 0 && (c == '-' || c == '.'));
+  }
+  if (plain) return text;
+  std::string out = "\"";
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof(escape), "\\x%02x", c);
+      out += escape;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
 }  // namespace
 
 std::string RobotToYaml(const Robot& robot) {
@@ -213,7 +242,7 @@ std::string RobotToYaml(const Robot& robot) {
   const Unit& L = robot.length_unit;
   const Unit& A = robot.angle_unit;
   std::ostringstream out;
-  out << "name: " << robot.name << "\n";
+  out << "name: " << YamlString(robot.name) << "\n";
   out << "convention: " << model.convention() << "\n";
   out << "units: {length: " << L.name << ", angle: " << A.name << "}\n";
   out << "joints:\n";
@@ -258,7 +287,7 @@ std::string RobotToYaml(const Robot& robot) {
   if (!robot.markers.empty()) {
     out << "markers:\n";
     for (const auto& [id, p] : robot.markers) {
-      out << "  " << id << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
+      out << "  " << YamlString(id) << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
   }
   if (robot.urdf) {
