@@ -13,8 +13,10 @@ int main(int argc, char** argv) {
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
   kincal::app::AddConvertCommand(app);
+  kincal::app::AddImportCommand(app);
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddPredictCommand(app);
+  kincal::app::AddIkCommand(app);
   kincal::app::AddMethodsCommand(app);
   kincal::app::AddStudyCommand(app);
   kincal::app::AddMergeCommand(app);

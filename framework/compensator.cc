@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "framework/inverse_kinematics.h"
+#include "framework/nominal_ik.h"
 #include "framework/joint_readings.h"
 #include "framework/math.h"
 
@@ -31,6 +31,7 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   }
   nominal_ = nominal;
   identified_ = identified;
+  nominal_ik_ = std::make_shared<const NominalInverseKinematics>(nominal_);
   prepared_ = true;
   DoPrepare();
 }
@@ -53,8 +54,12 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   Eigen::VectorXd seed = target.seed;
   if (seed.size() != 0 && nominal_.coupling.size() != 0) seed = nominal_.coupling * seed;
   if (seed.size() == 0) {
-    const InverseKinematicsResult ik =
-        SolveInverseKinematics(nominal_, target.T_meas_tool, target.has_orientation, Eigen::VectorXd(), {});
+    // The controller's solution: closed form where the geometry allows, on the branch closest to where
+    // the arm comes from (the previous target), else from the middle of the limits.
+    Eigen::VectorXd reference = target.previous_command;
+    if (reference.size() != 0 && nominal_.coupling.size() != 0) reference = nominal_.coupling * reference;
+    const IkSolution ik = target.has_orientation ? nominal_ik_->Solve(target.T_meas_tool, reference)
+                                                 : nominal_ik_->SolvePosition(target.T_meas_tool.translation(), reference);
     seed = ik.q;
     result.report.seed_computed = true;
   }

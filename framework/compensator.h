@@ -17,6 +17,8 @@
 
 namespace kincal {
 
+class NominalInverseKinematics;
+
 enum class CompensationStatus { kConverged, kIterationLimit, kSingular, kUnreachable, kFailed };
 std::string ToString(CompensationStatus status);
 
@@ -71,6 +73,8 @@ class Compensator {
 
   Robot nominal_;
   Robot identified_;
+  // The controller's inverse kinematics (framework/nominal_ik.h), for targets without a seed.
+  std::shared_ptr<const NominalInverseKinematics> nominal_ik_;
   bool prepared_ = false;
 };
 

@@ -43,7 +43,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   }
   if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
   r.CheckKeys(root, {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
-                     "velocity_limits", "coupling", "gravity", "joint_errors"},
+                     "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
               "the robot file");
 
   Unit length = LengthUnit("mm"), angle = AngleUnit("deg");
@@ -91,7 +91,11 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     r.CheckKeys(row, allowed, "joint row " + std::to_string(i + 1));
     for (const auto& key : keys) {
       // Hayati's beta and a POE row's theta default to 0 (an MDH table reads as a Hayati model unchanged).
-      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta"))) continue;
+      // A URDF row's offset (no URDF field) defaults to 0 as well.
+      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta") ||
+                        (convention == "urdf" && key == "offset"))) {
+        continue;
+      }
       if (!row[key]) r.Fail(row, "joint row " + std::to_string(i + 1) + " lacks '" + key + "'");
       const std::string name = key + "_" + std::to_string(i + 1);
       const int index = model->ParameterIndex(name);
@@ -156,6 +160,21 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
       if (id != static_cast<int>(id)) r.Fail(kv.first, "expected an integer session id");
       robot.session_bases[static_cast<int>(id)] = r.Pose(kv.second, "session " + kv.first.Scalar(), length, angle);
     }
+  }
+  if (root["urdf"]) {
+    const YAML::Node u = root["urdf"];
+    r.ExpectMap(u, "urdf");
+    r.CheckKeys(u, {"source", "base", "tip", "joints"}, "urdf");
+    for (const char* key : {"source", "base", "tip", "joints"}) {
+      if (!u[key]) r.Fail(u, std::string("urdf lacks '") + key + "'");
+    }
+    Robot::UrdfSource source{r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"),
+                             r.String(u["tip"], "urdf.tip"), {}};
+    if (!u["joints"].IsSequence() || static_cast<int>(u["joints"].size()) != n) {
+      r.Fail(u["joints"], "expected urdf.joints to name the " + std::to_string(n) + " moving joints");
+    }
+    for (const auto& j : u["joints"]) source.joints.push_back(r.String(j, "a urdf joint name"));
+    robot.urdf = source;
   }
   robot_file::ReadJointLevel(r, root, &robot);
   return robot;
@@ -241,6 +260,18 @@ std::string RobotToYaml(const Robot& robot) {
     for (const auto& [id, p] : robot.markers) {
       out << "  " << id << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
+  }
+  if (robot.urdf) {
+    // Names are written as YAML double-quoted strings (URDF names may hold any character).
+    auto quoted = [](const std::string& text) {
+      std::string q = "\"";
+      for (char c : text) q += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+      return q + "\"";
+    };
+    std::vector<std::string> joints;
+    for (const auto& j : robot.urdf->joints) joints.push_back(quoted(j));
+    out << "urdf: {source: " << quoted(robot.urdf->path) << ", base: " << quoted(robot.urdf->base_link)
+        << ", tip: " << quoted(robot.urdf->tip_link) << ", joints: " << List(joints) << "}\n";
   }
   if (!robot.session_bases.empty()) {
     out << "sessions:\n";
