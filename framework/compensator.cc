@@ -1,6 +1,7 @@
 #include "framework/compensator.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 
 #include "framework/nominal_ik.h"
@@ -36,6 +37,42 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   DoPrepare();
 }
 
+void Compensator::RestartFromBranches(const CompensationTarget& target, const Eigen::VectorXd& seed,
+                                      CompensationResult* result) const {
+  // Next to a singular configuration the identified arm's solution can lie on the other side of it, out
+  // of reach of an iteration from the seed (the branches of the nominal arm meet there, the identified
+  // arm's do not at the same place). The nominal arm's closed-form branches for the target moved by the
+  // pose error at the seed, T_nominal(seed) T_identified(seed)^-1 T_target (the pose whose nominal
+  // solution the identified arm puts at the target, to first order), are starts on every side; the
+  // nearest to the seed first.
+  const Eigen::Isometry3d T_shifted = nominal_.model().ForwardKinematics(seed) *
+                                      identified_.model().ForwardKinematics(seed).inverse() * target.T_meas_tool;
+  std::vector<IkSolution> starts = nominal_ik_->AllBranches(T_shifted, seed);
+  std::sort(starts.begin(), starts.end(), [&](const IkSolution& a, const IkSolution& b) {
+    return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
+  });
+  int iterations = result->report.iterations;
+  // Only the controller's branch counts: a solution farther than this from the seed in any joint is
+  // another configuration (the arm would turn over), not a compensation of this one.
+  constexpr double kSameBranch = 0.5;  // rad
+  for (const IkSolution& start : starts) {
+    if ((start.q - seed).cwiseAbs().maxCoeff() > kSameBranch) continue;
+    CompensationResult trial;
+    trial.q_actual = start.q;
+    DoCompensate(target, start.q, &trial);
+    iterations += trial.report.iterations;
+    if (trial.report.status == CompensationStatus::kConverged && trial.q_actual.allFinite() &&
+        (trial.q_actual - seed).cwiseAbs().maxCoeff() <= kSameBranch) {
+      trial.report.seed_computed = result->report.seed_computed;
+      trial.report.message = "converged from the nominal branch " + std::to_string(start.branch) +
+                             " of the target corrected by the pose error at the seed";
+      *result = std::move(trial);
+      break;
+    }
+  }
+  result->report.iterations = iterations;
+}
+
 CompensationResult Compensator::Compensate(const CompensationTarget& target) const {
   if (!prepared_) throw std::logic_error("Compensator::Compensate called before Prepare");
   const auto t0 = std::chrono::steady_clock::now();
@@ -65,6 +102,10 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   }
   result.q_actual = seed;
   DoCompensate(target, seed, &result);
+  if (result.report.status != CompensationStatus::kConverged && RestartsFromBranches() && target.has_orientation &&
+      nominal_ik_->has_closed_form() && result.q_actual.allFinite()) {
+    RestartFromBranches(target, seed, &result);
+  }
   if (result.q_actual.size() != n || !result.q_actual.allFinite()) {
     result.q_actual = seed;
     result.report.status = CompensationStatus::kFailed;

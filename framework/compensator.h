@@ -64,12 +64,18 @@ class Compensator {
  protected:
   const Robot& nominal() const { return nominal_; }
   const Robot& identified() const { return identified_; }
+  // Iterative methods return true: a target they do not reach from the seed is retried from the nominal
+  // arm's closed-form branches (RestartFromBranches). Default false (table lookups gain nothing).
+  virtual bool RestartsFromBranches() const { return false; }
 
  private:
   virtual void DoPrepare() {}
   // Fills result->q_actual and the report's status, iterations and histories; errors are computed after.
   virtual void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                             CompensationResult* result) const = 0;
+
+  void RestartFromBranches(const CompensationTarget& target, const Eigen::VectorXd& seed,
+                           CompensationResult* result) const;
 
   Robot nominal_;
   Robot identified_;

@@ -222,7 +222,8 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       const bool orientation = v.orientation && d.nominal.dof() >= 6;
       d.orientation.push_back(orientation);
       if (v.kind == ValidationSpec::Kind::kRandom) {
-        d.targets.push_back(RandomTargets(d.nominal, v.count, v.joint_limits, ValidationSeed(study_, v)));
+        d.targets.push_back(
+            ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation, ValidationSeed(study_, v)));
       } else {
         try {
           d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
