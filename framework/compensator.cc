@@ -115,6 +115,11 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   const Vector6d e = PoseError(T, target.T_meas_tool);
   result.report.position_error = e.head<3>().norm();
   result.report.orientation_error = target.has_orientation ? e.tail<3>().norm() : 0.0;
+  // A robot with values out of range (1e300 mm links) gives an infinite error: never "converged".
+  if (!std::isfinite(result.report.position_error) || !std::isfinite(result.report.orientation_error)) {
+    result.report.status = CompensationStatus::kFailed;
+    result.report.message = "the pose error is not finite: values out of range in the robot files";
+  }
   // The commands that put the identified arm's joints at q_actual: coupling, ratios and joint errors
   // inverted, the latter coming from the previous target's commands (framework/joint_readings.h).
   double joint_residual = 0.0;

@@ -67,7 +67,7 @@ int FuzzPipeline(const uint8_t* data, size_t size) {
     return 0;
   }
   // Short: a few rows and iterations, so that each input takes milliseconds.
-  if (dataset.rows.size() > 24) dataset.rows.resize(24);
+  if (dataset.rows.size() > 12) dataset.rows.resize(12);
   Robot identified;
   YAML::Node options;
   options["max_iterations"] = 5;
@@ -79,7 +79,7 @@ int FuzzPipeline(const uint8_t* data, size_t size) {
   }
   std::unique_ptr<Compensator> compensator = Compensators().Create("jacobian", YAML::Node());
   if (!Accepts("", [&] { compensator->Prepare(robot, identified); })) return 0;
-  for (size_t i = 0; i < dataset.rows.size() && i < 4; ++i) {
+  for (size_t i = 0; i < dataset.rows.size() && i < 2; ++i) {
     CompensationTarget target;
     target.T_meas_tool.translation() = dataset.rows[i].p;
     target.has_orientation = false;
