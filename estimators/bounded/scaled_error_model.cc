@@ -11,8 +11,8 @@ NamedBounds BoundsByName(const ErrorModelProblem& problem) {
 }
 
 ScaledErrorModel::ScaledErrorModel(const ErrorModelProblem& problem, const NormalEquations& at_start,
-                                   const NamedBounds& original)
-    : problem_(problem), x_start_(problem.InitialX()), scale_(problem.CharacteristicScales()) {
+                                   const NamedBounds& original, const RowWeighting& weighting)
+    : problem_(problem), weighting_(weighting), x_start_(problem.InitialX()), scale_(problem.CharacteristicScales()) {
   Eigen::VectorXd lower, upper;
   problem.Bounds(&lower, &upper);
   for (int i = 0; i < size(); ++i) {
@@ -36,7 +36,7 @@ Eigen::VectorXd ScaledErrorModel::X(const double* y) const {
 Eigen::VectorXd ScaledErrorModel::Y(const Eigen::VectorXd& x) const { return (x - x_start_).cwiseQuotient(scale_); }
 
 NormalEquations ScaledErrorModel::Evaluate(const double* y, Accumulate what) const {
-  return AccumulateNormalEquations(problem_, X(y), RowWeighting(), what);
+  return AccumulateNormalEquations(problem_, X(y), weighting_, what);
 }
 
 int ScaledErrorModel::CountAtBounds(const double* y) const {
@@ -46,14 +46,6 @@ int ScaledErrorModel::CountAtBounds(const double* y) const {
     count += (y[i] <= y_lower_[i] + margin || y[i] >= y_upper_[i] - margin);
   }
   return count;
-}
-
-void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report) {
-  report->details["parameters_at_bounds"] = count;
-  if (count > 0) {
-    report->warnings.push_back(solver + ": " + std::to_string(count) +
-                               " parameter(s) ended on a bound: widen the bound_* options if the model allows");
-  }
 }
 
 }  // namespace kincal

@@ -1,5 +1,6 @@
 #pragma once
-// The error model as the bounded solvers (nlopt, ipopt) see it: scaled variables
+// The error model as the bounded solvers (nlopt, ipopt) see it, with the estimator's row weighting:
+// scaled variables
 // y = (x - x_start) / s (s: ErrorModelProblem::CharacteristicScales, 1 mm, 1 mrad, 1e-3 ratio scale) and
 // the cost sum |r|^2 in units of its mean curvature in y at the start, f_unit = trace(2 S J^T J S) / p, so
 // that the Gauss-Newton Hessian in y has eigenvalues around 1 (the size of a quasi-Newton method's initial
@@ -17,7 +18,6 @@
 
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/normal_equations.h"
-#include "framework/estimator.h"
 
 namespace kincal {
 
@@ -25,15 +25,12 @@ using NamedBounds = std::map<std::string, std::pair<double, double>>;  // name -
 
 NamedBounds BoundsByName(const ErrorModelProblem& problem);
 
-// Records how many parameters a bounded solver left on a bound (details.parameters_at_bounds) and, if any,
-// warns that the bounds, not the data, decided them.
-void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report);
-
 class ScaledErrorModel {
  public:
-  // `at_start`: normal equations of `problem` at its InitialX() (PreparedErrorModel::initial). Bounds of
-  // parameters named in `original` are taken from it, the others from problem.Bounds().
-  ScaledErrorModel(const ErrorModelProblem& problem, const NormalEquations& at_start, const NamedBounds& original);
+  // `at_start`: normal equations of `problem` at its InitialX() with `weighting` (PreparedErrorModel::
+  // initial). Bounds of parameters named in `original` are taken from it, the others from problem.Bounds().
+  ScaledErrorModel(const ErrorModelProblem& problem, const NormalEquations& at_start, const NamedBounds& original,
+                   const RowWeighting& weighting = RowWeighting());
 
   int size() const { return static_cast<int>(x_start_.size()); }
   Eigen::VectorXd X(const double* y) const;
@@ -43,7 +40,8 @@ class ScaledErrorModel {
   const Eigen::VectorXd& y_upper() const { return y_upper_; }
   double f_unit() const { return f_unit_; }
 
-  // Cost (and, as asked, J^T r, J^T J) at y, one pass over the data, in x's units.
+  // Cost sum w rho(|r|^2) (and, as asked, J^T W r, J^T W J: normal_equations.h) at y, one pass over the
+  // data, in x's units.
   NormalEquations Evaluate(const double* y, Accumulate what) const;
   // Scaled cost, gradient and Gauss-Newton Hessian in y from normal equations in x's units.
   double Cost(const NormalEquations& ne) const { return ne.cost / f_unit_; }
@@ -56,6 +54,7 @@ class ScaledErrorModel {
 
  private:
   const ErrorModelProblem& problem_;
+  RowWeighting weighting_;
   Eigen::VectorXd x_start_, scale_, y_lower_, y_upper_;
   double f_unit_ = 1.0;
 };

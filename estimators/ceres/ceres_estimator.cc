@@ -21,7 +21,7 @@ bool CeresOptions::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  if (!error_model.IsValid(why)) return false;
+  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
   if (linear_solver != "auto" && linear_solver != "dense_qr" && linear_solver != "dense_normal_cholesky" &&
       linear_solver != "sparse_normal_cholesky") {
     return fail("linear_solver must be auto, dense_qr, dense_normal_cholesky or sparse_normal_cholesky, got '" +
@@ -39,14 +39,13 @@ bool CeresOptions::IsValid(std::string* why) const {
     return fail("initial_trust_region_radius must be positive");
   }
   if (num_threads < 1) return fail("num_threads must be >= 1");
-  if (!weighting.IsValid(why)) return false;
   return true;
 }
 
 CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
   CeresOptions o;
   OptionsReader reader(node, "ceres");
-  o.error_model.Read(&reader);
+  o.ReadShared(&reader);
   reader.Get("linear_solver", &o.linear_solver);
   reader.Get("max_iterations", &o.max_iterations);
   reader.Get("function_tolerance", &o.function_tolerance);
@@ -54,7 +53,6 @@ CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
   reader.Get("parameter_tolerance", &o.parameter_tolerance);
   reader.Get("initial_trust_region_radius", &o.initial_trust_region_radius);
   reader.Get("num_threads", &o.num_threads);
-  o.weighting.Read(&reader);
   reader.Get("verbose", &o.verbose);
   reader.Finish();
   return o;
@@ -114,13 +112,12 @@ ceres::Solver::Summary Minimize(const ErrorModelProblem& problem, const CeresOpt
 
 void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {
-  const RowWeighting weighting = options_.weighting.Weighting(data.rows.size(), "ceres");
-  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
-  if (FinishIfNothingFree(prep, identified, report)) return;
   // Totals over the solves (a second one follows when identifiability changes at the first solution).
   int successful = 0, unsuccessful = 0;
   std::map<std::string, double> seconds;
-  const auto add = [&](const ceres::Solver::Summary& s) {
+  const auto minimize = [&](const PreparedErrorModel& prep, const RowWeighting& weighting, int budget,
+                            Eigen::VectorXd* x) {
+    const ceres::Solver::Summary s = Minimize(*prep.problem, options_, weighting, budget, x, &report->warnings);
     successful += s.num_successful_steps;
     unsuccessful += s.num_unsuccessful_steps;
     seconds["total"] += s.total_time_in_seconds;
@@ -130,29 +127,17 @@ void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     seconds["jacobian_evaluation"] += s.jacobian_evaluation_time_in_seconds;
     seconds["linear_solver"] += s.linear_solver_time_in_seconds;
     seconds["postprocessor"] += s.postprocessor_time_in_seconds;
+    MinimizerRun run;
+    run.status = StatusOf(s);
+    run.message = s.message;
+    run.iterations = s.num_successful_steps + s.num_unsuccessful_steps;
+    run.details = {{"linear_solver", ceres::LinearSolverTypeToString(s.linear_solver_type_used)},
+                   {"successful_steps", successful},
+                   {"unsuccessful_steps", unsuccessful},
+                   {"times_s", seconds}};
+    return run;
   };
-  Eigen::VectorXd x = prep.problem->InitialX();
-  ceres::Solver::Summary summary =
-      Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &report->warnings);
-  add(summary);
-  const double initial_cost = summary.initial_cost;
-  if (StatusOf(summary) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
-    const int left = std::max(0, options_.max_iterations - successful - unsuccessful);
-    summary = Minimize(*prep.problem, options_, weighting, left, &x, &report->warnings);
-    add(summary);
-  }
-  report->status = StatusOf(summary);
-  report->message = summary.message;
-  report->iterations = successful + unsuccessful;
-  FinishErrorModel(prep, x, weighting, identified, report);
-
-  nlohmann::json& d = report->details;
-  d["linear_solver"] = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  d["successful_steps"] = successful;
-  d["unsuccessful_steps"] = unsuccessful;
-  d["initial_cost_m2"] = 2.0 * initial_cost;  // Ceres' cost is half the sum
-  d["times_s"] = seconds;
-  d["loss"] = options_.weighting.loss;
+  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

@@ -3,21 +3,20 @@
 // (trust region) on the residual blocks of error_model_cost.h, with analytic derivatives. The linear
 // solver is chosen from the problem's structure: DENSE_QR (Householder QR of J: the numerically safest
 // for a small dense J) unless rows of different sessions touch different base blocks, where J^T J is
-// block sparse and SPARSE_NORMAL_CHOLESKY through SuiteSparse exploits it. Bases are registered in
-// closed form and what the data cannot determine is held before solving, and the report (covariance
-// sigma^2 (J^T W J)^-1, held parameters, condition number) comes from the shared helpers (error_model.h),
-// so it reads exactly like least_squares'.
+// block sparse and SPARSE_NORMAL_CHOLESKY through SuiteSparse exploits it. Bases, tool and markers are
+// placed in closed form and what the data cannot determine is held before solving; options, sequence and
+// report (covariance sigma^2 (J^T W J)^-1, held parameters, condition number) are shared with every
+// error-model estimator (error_model_estimation.h), so it reads exactly like least_squares'.
 #include <string>
 #include <vector>
 
-#include "estimators/error_model/error_model.h"
-#include "estimators/error_model/row_weighting_options.h"
+#include "estimators/error_model/error_model_estimation.h"
 #include "framework/estimator.h"
 
 namespace kincal {
 
-struct CeresOptions {
-  ErrorModelOptions error_model;       // the shared keys (error_model_problem.h)
+// The shared keys (error_model and weighting: error_model_estimation.h), then these.
+struct CeresOptions : ErrorModelEstimatorOptions {
   // "auto": sparse_normal_cholesky when sessions make J block sparse (and SuiteSparse is available),
   // else dense_qr. Or force one of "dense_qr", "dense_normal_cholesky", "sparse_normal_cholesky".
   std::string linear_solver = "auto";
@@ -35,7 +34,6 @@ struct CeresOptions {
   // 1e4's 8 on the benchmark problem).
   double initial_trust_region_radius = 1e6;
   int num_threads = 1;                 // threads evaluating residual blocks
-  RowWeightingOptions weighting;       // robust loss and per-row weights (keys loss, loss_scale, weights)
   bool verbose = false;                // Ceres' per-iteration log on stdout
 
   bool IsValid(std::string* why) const;

@@ -1,13 +1,7 @@
 #pragma once
-// Closed-form initialisation of the measurement frame. A laser tracker stands metres from the robot,
-// arbitrarily rotated; a local solver started from an identity base finds a false minimum. Registering
-// the start model's predicted marker points onto the measured ones gives the base in closed form.
-#include <string>
-#include <vector>
-
+// Rigid registration of point pairs in closed form, the last step of placing a start's measurement frame
+// (start_placement.h).
 #include <Eigen/Geometry>
-
-#include "estimators/error_model/error_model_problem.h"
 
 namespace kincal {
 
@@ -28,12 +22,5 @@ class PointRegistration {
   Eigen::Vector3d sum_a_ = Eigen::Vector3d::Zero(), sum_b_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d sum_ab_ = Eigen::Matrix3d::Zero(), sum_aa_ = Eigen::Matrix3d::Zero();
 };
-
-// Registers the start model's predicted points (base frame) onto the measurements, each session on its
-// own, and writes the results as robot's base (session 0) and session_bases[k]. Bases that the options
-// hold (fixed "base", "base_*", "sessions", "session_<k>_*", identify_session_bases off, or the model's
-// free mask) are left alone. Returns warnings (e.g. a session whose points are degenerate).
-std::vector<std::string> InitializeBases(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
-                                         Robot* robot);
 
 }  // namespace kincal

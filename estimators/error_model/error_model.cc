@@ -6,7 +6,7 @@
 
 #include <Eigen/Cholesky>
 
-#include "estimators/error_model/base_registration.h"
+#include "estimators/error_model/start_placement.h"
 
 namespace kincal {
 namespace {
@@ -53,10 +53,20 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
                                      const ErrorModelOptions& options, const RowWeighting& weighting) {
   PreparedErrorModel prep;
   prep.input = start;
-  prep.start = start;
+  // A reflector the data name but the robot file does not declare starts at the tool origin, to be
+  // placed below, when the options let markers be identified.
+  for (const Measurement& m : data.rows) {
+    if (m.marker.empty() || start.markers.count(m.marker) || !options.identify_markers) continue;
+    bool held = false;
+    for (const auto& name : options.fixed) held = held || name == "markers" || name.rfind("marker_" + m.marker + "_", 0) == 0;
+    if (!held) prep.input.markers[m.marker] = Eigen::Vector3d::Zero();
+  }
+  prep.start = prep.input;
   // Validates everything (throws) before the registration runs on the data.
-  { const ErrorModelProblem check(start, controller, data, options); }
-  prep.warnings = InitializeBases(controller, data, options, &prep.start);
+  { const ErrorModelProblem check(prep.input, controller, data, options); }
+  const StartPlacement placement = PlaceStart(controller, data, options, &prep.start);
+  prep.warnings = placement.warnings;
+  prep.placed = placement.placed;
   AnalyzeAndHold(controller, data, options, weighting, &prep);
   prep.registered_rms = prep.initial.PositionRms();
   return prep;
@@ -71,6 +81,7 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
   next.input = prep->input;
   next.start = at_solution;
   next.warnings = prep->warnings;
+  next.placed = prep->placed;
   next.registered_rms = prep->registered_rms;
   AnalyzeAndHold(old.controller(), old.data(), old.options(), weighting, &next);
   if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
@@ -178,6 +189,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["sigma_m"] = Finite(cov.sigma);
   d["cost"] = ne.cost;
   d["registered_start_rms_m"] = Finite(prep.registered_rms);
+  d["placed_in_closed_form"] = prep.placed;
   d["rank"] = a.rank;
   d["observability"] = {{"O1", a.observability.o1}, {"O2", a.observability.o2}, {"O3", a.observability.o3},
                         {"O4", a.observability.o4}, {"O5", a.observability.o5},

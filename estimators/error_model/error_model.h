@@ -1,7 +1,8 @@
 #pragma once
 // The steps every error-model estimator shares (least_squares, ceres, nlopt, ipopt), so that they differ
 // only in how they minimise:
-//   1. PrepareErrorModel: register the bases in closed form (base_registration.h), build the problem,
+//   1. PrepareErrorModel: place the bases, the tool and the markers in closed form (start_placement.h),
+//      so that every estimator starts from the same point and bounds are centred on it; build the problem,
 //      analyse identifiability at the start (identifiability.h) and hold what the data cannot determine.
 //   2. the estimator minimises sum_i w_i rho(|r_i(x)|^2) over x, from problem->InitialX(); then
 //      ReanalyzeIdentifiability at the solution and, when it frees parameters, minimises again.
@@ -30,12 +31,14 @@
 namespace kincal {
 
 struct PreparedErrorModel {
-  Robot input;                                  // the start robot as given
-  Robot start;                                  // the same with registered bases
+  Robot input;                                  // the start robot as given (markers the data name but it
+                                                // lacks added at the tool origin)
+  Robot start;                                  // the same with bases, tool and markers placed
+  std::vector<std::string> placed;              // what the placement set (StartPlacement::placed)
   std::unique_ptr<ErrorModelProblem> problem;   // identifiable parameters free
   IdentifiabilityAnalysis identifiability;      // at the start, of the problem before holding
   NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
-  double registered_rms = NAN;                  // position RMS of the start once the bases are registered, m
+  double registered_rms = NAN;                  // position RMS of the start once placed, m
   std::vector<std::string> warnings;
 };
 

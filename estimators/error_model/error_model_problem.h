@@ -25,7 +25,7 @@
 //
 // How a backend uses it (error_model.h does the common steps):
 //   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options, weighting);
-//       // registers the bases in closed form, holds what the data cannot determine
+//       // places bases, tool and markers in closed form, holds what the data cannot determine
 //   const ErrorModelProblem& problem = *prep.problem;
 //   Eigen::VectorXd x = problem.InitialX();
 //   auto ws = problem.NewWorkspace();                       // scratch: one per thread
@@ -54,10 +54,13 @@
 
 namespace kincal {
 
-// Bounds around the start value (after base registration) for bounded solvers (NLopt, Ipopt).
+// Bounds around the start value (after the closed-form placement of bases, tool and markers) for the
+// bounded solvers (NLopt, Ipopt).
 struct ErrorModelBounds {
   double length = 0.010;                  // m: a_i, d_i (and prismatic offsets)
-  double angle = 2.0 * M_PI / 180.0;      // rad: alpha_i, theta_i, tool angles
+  // rad: alpha_i, theta_i, tool angles. 5 deg: a controller's joint zeros can sit 2 deg from the nominal
+  // ones (the IRB 120 of irb120_wu2015), and a bound at 2 deg decided one of them.
+  double angle = 5.0 * M_PI / 180.0;
   double ratio = 0.05;                    // relative: s_i in [1 - ratio, 1 + ratio]
   double marker = 0.05;                   // m: marker offsets, and tool_x/y/z (the marker without markers)
   double base_length = 0.10;              // m: base and session-base translations
@@ -76,8 +79,8 @@ struct ErrorModelOptions {
   bool identify_ratios = true;            // when the robot has drives (and the data gives them meaning)
   bool identify_markers = true;           // when the dataset has a `marker` column
   bool identify_session_bases = true;     // when the dataset has a `session` column
-  // Register the start model's predicted points onto the measurements (Kabsch/Horn) before solving,
-  // session by session. Skipped for a base that `fixed` holds.
+  // Place the bases (session by session), the tool's translation and the markers in closed form before
+  // solving (start_placement.h); what `fixed` holds stays as given. Bounds are centred on the placed start.
   bool initialize_bases = true;
   double orientation_length = 0.1;        // m per rad (L above): 0.1 m equates 1 mrad and 0.1 mm
   // A parameter is not identifiable when its scaled Jacobian column lies within this sine of an angle

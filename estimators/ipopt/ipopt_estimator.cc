@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpSolveStatistics.hpp>
@@ -38,22 +39,15 @@ EstimationStatus StatusOf(Ipopt::ApplicationReturnStatus s) {
   }
 }
 
-struct IpoptRun {
-  Ipopt::ApplicationReturnStatus status = Ipopt::Internal_Error;
-  int iterations = 0;
-  int passes = 0;
-  int parameters_at_bounds = 0;
-};
-
 // Minimises from the prepared problem's start within the bounds (`bounds` by name, see
 // scaled_error_model.h); *x ends at Ipopt's final point.
-IpoptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const IpoptOptions& options,
-                  int max_iterations, Eigen::VectorXd* x) {
+MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weighting, const NamedBounds& bounds,
+                      const IpoptOptions& options, int max_iterations, Eigen::VectorXd* x, int* passes) {
   // Debian's Ipopt 3.11 solves its linear systems with sequential MUMPS, whose state is global: two solves
   // at once (a study's thread pool) would corrupt each other. One Ipopt solve at a time, process-wide.
   static std::mutex ipopt_mutex;
   const std::lock_guard<std::mutex> lock(ipopt_mutex);
-  IpoptRun run;
+  MinimizerRun run;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& o = *app->Options();
   o.SetIntegerValue("print_level", options.print_level);
@@ -68,17 +62,19 @@ IpoptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, con
   o.SetIntegerValue("limited_memory_max_history", std::clamp(max_iterations, 6, 1000));
   // The problem is scaled already (variables and cost); Ipopt's gradient-based rescaling would undo it.
   o.SetStringValue("nlp_scaling_method", "none");
-  if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": read no ipopt.opt from the working directory
-    run.status = Ipopt::Invalid_Option;
-    return run;
+  Ipopt::ApplicationReturnStatus status = Ipopt::Invalid_Option;
+  if (app->Initialize("") == Ipopt::Solve_Succeeded) {  // "": read no ipopt.opt from the working directory
+    const ScaledErrorModel model(*prep.problem, prep.initial, bounds, weighting);
+    Ipopt::SmartPtr<ErrorModelNlp> nlp = new ErrorModelNlp(model);
+    status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
+    if (Ipopt::IsValid(app->Statistics())) run.iterations = app->Statistics()->IterationCount();
+    *passes += nlp->passes();
+    run.parameters_at_bounds = nlp->parameters_at_bounds();
+    *x = nlp->solution();
   }
-  const ScaledErrorModel model(*prep.problem, prep.initial, bounds);
-  Ipopt::SmartPtr<ErrorModelNlp> nlp = new ErrorModelNlp(model);
-  run.status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
-  if (Ipopt::IsValid(app->Statistics())) run.iterations = app->Statistics()->IterationCount();
-  run.passes = nlp->passes();
-  run.parameters_at_bounds = nlp->parameters_at_bounds();
-  *x = nlp->solution();
+  run.status = StatusOf(status);
+  run.message = "Ipopt: " + ReturnName(status);
+  run.details = {{"hessian", options.hessian}, {"ipopt_status", static_cast<int>(status)}, {"passes_over_data", *passes}};
   return run;
 }
 
@@ -89,7 +85,7 @@ bool IpoptOptions::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  if (!error_model.IsValid(why)) return false;
+  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
   if (hessian != "gauss_newton" && hessian != "limited_memory") {
     return fail("hessian must be gauss_newton or limited_memory, got '" + hessian + "'");
   }
@@ -103,7 +99,7 @@ bool IpoptOptions::IsValid(std::string* why) const {
 IpoptOptions IpoptOptions::FromYaml(const YAML::Node& node) {
   IpoptOptions o;
   OptionsReader reader(node, "ipopt");
-  o.error_model.Read(&reader);
+  o.ReadShared(&reader);
   reader.Get("hessian", &o.hessian);
   reader.Get("max_iterations", &o.max_iterations);
   reader.Get("tolerance", &o.tolerance);
@@ -115,28 +111,15 @@ IpoptOptions IpoptOptions::FromYaml(const YAML::Node& node) {
 
 void IpoptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {
-  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model);
-  if (FinishIfNothingFree(prep, identified, report)) return;
-  Eigen::VectorXd x = prep.problem->InitialX();
-  const double initial_cost = prep.initial.cost;
-  const NamedBounds bounds = BoundsByName(*prep.problem);
-  IpoptRun run = Minimize(prep, bounds, options_, options_.max_iterations, &x);
-  int iterations = run.iterations, passes = run.passes;
-  if (StatusOf(run.status) == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
-    run = Minimize(prep, bounds, options_, std::max(0, options_.max_iterations - iterations), &x);
-    iterations += run.iterations;
-    passes += run.passes;
-  }
-  report->status = StatusOf(run.status);
-  report->message = "Ipopt: " + ReturnName(run.status);
-  report->iterations = iterations;
-  FinishErrorModel(prep, x, RowWeighting(), identified, report);
-  nlohmann::json& d = report->details;
-  d["hessian"] = options_.hessian;
-  d["ipopt_status"] = static_cast<int>(run.status);
-  d["passes_over_data"] = passes;
-  d["initial_cost_m2"] = initial_cost;
-  ReportParametersAtBounds("ipopt", run.parameters_at_bounds, report);
+  // Bounds of the first problem, kept by name when identifiability is re-analysed (scaled_error_model.h).
+  std::optional<NamedBounds> bounds;
+  int passes = 0;
+  const auto minimize = [&](const PreparedErrorModel& prep, const RowWeighting& weighting, int budget,
+                            Eigen::VectorXd* x) {
+    if (!bounds) bounds = BoundsByName(*prep.problem);
+    return Minimize(prep, weighting, *bounds, options_, budget, x, &passes);
+  };
+  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

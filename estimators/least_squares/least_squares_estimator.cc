@@ -14,26 +14,24 @@ bool LeastSquaresOptions::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  if (!error_model.IsValid(why)) return false;
+  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
   if (max_iterations < 0) return fail("max_iterations must be >= 0");
   if (!(parameter_tolerance > 0.0)) return fail("parameter_tolerance must be positive");
   if (!(function_tolerance >= 0.0)) return fail("function_tolerance must be >= 0");
   if (!(gradient_tolerance >= 0.0)) return fail("gradient_tolerance must be >= 0");
   if (!(initial_damping >= 0.0) || !std::isfinite(initial_damping)) return fail("initial_damping must be finite and >= 0");
-  if (!weighting.IsValid(why)) return false;
   return true;
 }
 
 LeastSquaresOptions LeastSquaresOptions::FromYaml(const YAML::Node& node) {
   LeastSquaresOptions o;
   OptionsReader reader(node, "least_squares");
-  o.error_model.Read(&reader);
+  o.ReadShared(&reader);
   reader.Get("max_iterations", &o.max_iterations);
   reader.Get("parameter_tolerance", &o.parameter_tolerance);
   reader.Get("function_tolerance", &o.function_tolerance);
   reader.Get("gradient_tolerance", &o.gradient_tolerance);
   reader.Get("initial_damping", &o.initial_damping);
-  o.weighting.Read(&reader);
   reader.Finish();
   return o;
 }
@@ -138,25 +136,18 @@ LmResult Minimize(const ErrorModelProblem& problem, const LeastSquaresOptions& o
 
 void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
                                        Robot* identified, EstimationReport* report) const {
-  const RowWeighting weighting = options_.weighting.Weighting(data.rows.size(), "least_squares");
-  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model, weighting);
-  Eigen::VectorXd x = prep.problem->InitialX();
-  NormalEquations ne = prep.initial;
-  const double initial_cost = ne.cost;
-  LmResult lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations, &x, &ne);
-  int iterations = lm.iterations;
-  if (lm.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
-    ne = prep.initial;
-    lm = Minimize(*prep.problem, options_, weighting, options_.max_iterations - iterations, &x, &ne);
-    iterations += lm.iterations;
-  }
-  report->status = lm.status;
-  report->message = lm.message;
-  report->iterations = iterations;
-  FinishErrorModel(prep, x, ne, identified, report);
-  report->details["initial_cost_m2"] = initial_cost;
-  report->details["final_damping"] = lm.lambda;
-  report->details["loss"] = options_.weighting.loss;
+  const auto minimize = [&](const PreparedErrorModel& prep, const RowWeighting& weighting, int budget,
+                            Eigen::VectorXd* x) {
+    NormalEquations ne = prep.initial;
+    const LmResult lm = Minimize(*prep.problem, options_, weighting, budget, x, &ne);
+    MinimizerRun run;
+    run.status = lm.status;
+    run.message = lm.message;
+    run.iterations = lm.iterations;
+    run.details = {{"final_damping", lm.lambda}};
+    return run;
+  };
+  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

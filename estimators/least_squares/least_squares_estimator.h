@@ -4,19 +4,19 @@
 // "Damping parameter in Marquardt's method", IMM-REP-1999-05). Each iteration is one pass over the data
 // that accumulates cost, J^T W r and J^T W J row by row (normal_equations.h), so memory is O(p^2)
 // whatever the number of poses. A robust loss (Huber, Cauchy) enters by iteratively reweighted least
-// squares, per-row weights as given. Bases are registered in closed form and parameters the data
-// cannot determine are held before solving (error_model.h).
+// squares, per-row weights as given. Bases, tool and markers are placed in closed form and parameters the
+// data cannot determine are held before solving; options, sequence and report are shared with every
+// error-model estimator (error_model_estimation.h).
 #include <string>
 #include <vector>
 
-#include "estimators/error_model/error_model.h"
-#include "estimators/error_model/row_weighting_options.h"
+#include "estimators/error_model/error_model_estimation.h"
 #include "framework/estimator.h"
 
 namespace kincal {
 
-struct LeastSquaresOptions {
-  ErrorModelOptions error_model;       // the shared keys (error_model_problem.h)
+// The shared keys (error_model and weighting: error_model_estimation.h), then these.
+struct LeastSquaresOptions : ErrorModelEstimatorOptions {
   int max_iterations = 50;             // passes over the data that propose a step
   // Stop when an accepted step changes no parameter by more than parameter_tolerance times its
   // characteristic scale (1 mm, 1 mrad, 1e-3 ratio scale): 1e-8 is 10 pm, below any instrument.
@@ -28,7 +28,6 @@ struct LeastSquaresOptions {
   // Initial damping lambda of (J^T W J + lambda diag(J^T W J)) dx = -J^T W r. Small: the bases are
   // registered in closed form, so Gauss-Newton steps are good from the start.
   double initial_damping = 1e-6;
-  RowWeightingOptions weighting;       // robust loss and per-row weights (keys loss, loss_scale, weights)
 
   bool IsValid(std::string* why) const;
   static LeastSquaresOptions FromYaml(const YAML::Node& node);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -43,14 +44,6 @@ class Objective {
   int evaluations_ = 0;
 };
 
-struct NloptRun {
-  EstimationStatus status = EstimationStatus::kFailed;
-  std::string message;
-  nlopt::result result = nlopt::FAILURE;
-  int evaluations = 0;
-  int parameters_at_bounds = 0;
-};
-
 std::string ResultName(nlopt::result r) {
   switch (r) {
     case nlopt::FAILURE: return "generic failure";
@@ -70,10 +63,10 @@ std::string ResultName(nlopt::result r) {
 
 // Minimises from the prepared problem's start within the bounds (`bounds` by name, see
 // scaled_error_model.h) with at most max_evaluations passes; *x ends at the best point NLopt found.
-NloptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, const NloptOptions& options,
-                  int max_evaluations, Eigen::VectorXd* x) {
-  NloptRun run;
-  const ScaledErrorModel model(*prep.problem, prep.initial, bounds);
+MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weighting, const NamedBounds& bounds,
+                      const NloptOptions& options, int max_evaluations, Eigen::VectorXd* x) {
+  MinimizerRun run;
+  const ScaledErrorModel model(*prep.problem, prep.initial, bounds, weighting);
   const int p = model.size();
   Objective objective(model);
   nlopt::opt opt(options.algorithm.c_str(), static_cast<unsigned>(p));
@@ -91,11 +84,11 @@ NloptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, con
   } catch (const std::exception&) {
     // NLopt throws for its negative results; the code says which, and y holds the best point.
   }
-  run.result = opt.last_optimize_result();
-  run.evaluations = objective.evaluations();
+  const nlopt::result result = opt.last_optimize_result();
+  run.iterations = objective.evaluations();  // NLopt counts evaluations, not iterations
   run.parameters_at_bounds = model.CountAtBounds(y.data());
   *x = model.X(y.data());
-  switch (run.result) {
+  switch (result) {
     case nlopt::SUCCESS:
     case nlopt::STOPVAL_REACHED:
     case nlopt::FTOL_REACHED:
@@ -104,7 +97,8 @@ NloptRun Minimize(const PreparedErrorModel& prep, const NamedBounds& bounds, con
     case nlopt::MAXTIME_REACHED: run.status = EstimationStatus::kIterationLimit; break;
     default: run.status = EstimationStatus::kFailed; break;
   }
-  run.message = options.algorithm + ": " + ResultName(run.result);
+  run.message = options.algorithm + ": " + ResultName(result);
+  run.details = {{"algorithm", options.algorithm}, {"nlopt_result", static_cast<int>(result)}};
   return run;
 }
 
@@ -115,7 +109,7 @@ bool NloptOptions::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  if (!error_model.IsValid(why)) return false;
+  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
   const auto& names = SupportedAlgorithms();
   if (std::find(names.begin(), names.end(), algorithm) == names.end()) {
     std::string list;
@@ -133,7 +127,7 @@ bool NloptOptions::IsValid(std::string* why) const {
 NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
   NloptOptions o;
   OptionsReader reader(node, "nlopt");
-  o.error_model.Read(&reader);
+  o.ReadShared(&reader);
   reader.Get("algorithm", &o.algorithm);
   reader.Get("max_evaluations", &o.max_evaluations);
   reader.Get("max_time_seconds", &o.max_time_seconds);
@@ -145,27 +139,18 @@ NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
 
 void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {
-  PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options_.error_model);
-  if (FinishIfNothingFree(prep, identified, report)) return;
-  Eigen::VectorXd x = prep.problem->InitialX();
-  const double initial_cost = prep.initial.cost;
-  const NamedBounds bounds = BoundsByName(*prep.problem);
-  NloptRun run = Minimize(prep, bounds, options_, options_.max_evaluations, &x);
-  int evaluations = run.evaluations;
-  if (run.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, RowWeighting(), &prep, &x)) {
-    run = Minimize(prep, bounds, options_, options_.max_evaluations - evaluations, &x);
-    evaluations += run.evaluations;
-  }
-  report->status = run.status;
-  report->message = run.message;
-  report->iterations = evaluations;  // NLopt counts evaluations, not iterations
-  FinishErrorModel(prep, x, RowWeighting(), identified, report);
-  nlohmann::json& d = report->details;
-  d["algorithm"] = options_.algorithm;
-  d["nlopt_result"] = static_cast<int>(run.result);
-  d["evaluations"] = evaluations;
-  d["initial_cost_m2"] = initial_cost;
-  ReportParametersAtBounds("nlopt", run.parameters_at_bounds, report);
+  // Bounds of the first problem, kept by name when identifiability is re-analysed (scaled_error_model.h).
+  std::optional<NamedBounds> bounds;
+  int evaluations = 0;
+  const auto minimize = [&](const PreparedErrorModel& prep, const RowWeighting& weighting, int budget,
+                            Eigen::VectorXd* x) {
+    if (!bounds) bounds = BoundsByName(*prep.problem);
+    MinimizerRun run = Minimize(prep, weighting, *bounds, options_, budget, x);
+    evaluations += run.iterations;
+    run.details["evaluations"] = evaluations;
+    return run;
+  };
+  EstimateErrorModel(name(), options_, options_.max_evaluations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

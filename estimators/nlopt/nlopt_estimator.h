@@ -1,12 +1,13 @@
 #pragma once
 // `nlopt`: the error model (estimators/error_model) minimised by NLopt (S. G. Johnson, "The NLopt
-// nonlinear-optimization package") within bounds on every parameter. The cost is the plain sum of
-// squared residuals f(x) = sum_i |r_i(x)|^2 with its exact gradient 2 J^T r, accumulated row by row
+// nonlinear-optimization package") within bounds on every parameter. The cost is the weighted sum
+// f(x) = sum_i w_i rho(|r_i(x)|^2) with its exact gradient 2 J^T W r, accumulated row by row
 // (normal_equations.h), so memory does not grow with the poses. The optimiser sees scaled variables and
 // cost (O(1) numbers whatever the units) within bounds on every parameter (ErrorModelBounds around the
 // registered start, kept when identifiability is re-analysed): estimators/bounded/scaled_error_model.h.
-// Bases are registered and what the data cannot determine is held before solving, and the report comes
-// from the shared helpers (error_model.h), as for every error-model estimator.
+// Bases, tool and markers are placed in closed form (bounds centred on that start) and what the data
+// cannot determine is held before solving; options, sequence and report are shared with every
+// error-model estimator (error_model_estimation.h), a robust loss and row weights included.
 //
 // Algorithm by name. Default LD_SLSQP (Kraft 1988: sequential quadratic programming with a dense BFGS
 // Hessian, bound constraints handled exactly in its QP). Measured on the benchmark problem (1000 poses,
@@ -19,13 +20,13 @@
 // crawl along the ill-conditioned directions of a calibration Jacobian.
 #include <string>
 
-#include "estimators/error_model/error_model.h"
+#include "estimators/error_model/error_model_estimation.h"
 #include "framework/estimator.h"
 
 namespace kincal {
 
-struct NloptOptions {
-  ErrorModelOptions error_model;       // the shared keys, bounds included (error_model_problem.h)
+// The shared keys (error_model, bounds included, and weighting: error_model_estimation.h), then these.
+struct NloptOptions : ErrorModelEstimatorOptions {
   // An NLopt local algorithm that honours bounds: LD_SLSQP, LD_LBFGS, LD_MMA, LD_CCSAQ, LD_VAR1, LD_VAR2,
   // LD_TNEWTON, LD_TNEWTON_PRECOND_RESTART (gradient-based, exact gradients), LN_BOBYQA, LN_COBYLA,
   // LN_NEWUOA_BOUND, LN_NELDERMEAD, LN_SBPLX (derivative-free).

@@ -9,6 +9,7 @@
 #include "estimators/error_model/base_registration.h"
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/pose_jacobians.h"
+#include "estimators/error_model/start_placement.h"
 #include "framework/prediction.h"
 #include "framework/random.h"
 #include "framework/simulator.h"
@@ -280,10 +281,71 @@ TEST(BaseRegistration, FindsTheTrackerFrameOfEachSession) {
     m.p = PredictToolPose(truth, q, 4) * truth.MarkerPosition("");
   }
   Robot start = testing::SeedNominal();
-  const auto warnings = InitializeBases(truth, data, ErrorModelOptions(), &start);
-  EXPECT_TRUE(warnings.empty());
+  const StartPlacement placement = PlaceStart(truth, data, ErrorModelOptions(), &start);
+  EXPECT_TRUE(placement.warnings.empty());
   EXPECT_LT((start.model().base().matrix() - truth.model().base().matrix()).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((start.session_bases.at(4).matrix() - truth.session_bases.at(4).matrix()).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// Two reflectors a hand's width from the flange, the tracker metres away in two set-ups: with the chain
+// exact, the closed-form placement recovers both bases and both reflectors from a start that knows
+// neither (markers at the flange, identity bases), to rounding.
+TEST(StartPlacement, RecoversBasesAndMarkersFromAStartThatKnowsNeither) {
+  Robot truth = testing::SeedNominal();
+  Rng rng(21);
+  truth.model().SetBase(RandomPose(&rng, 3.0));
+  truth.session_bases[2] = RandomPose(&rng, 3.0);
+  truth.markers["A"] = Eigen::Vector3d(0.10, -0.05, 0.12);
+  truth.markers["B"] = Eigen::Vector3d(-0.08, 0.02, 0.15);
+  SimulatorOptions so;
+  so.protocol = "random";
+  so.poses = 90;  // session 2 gets 30: more than the 22 unknowns per coordinate of its rotation fit
+  Dataset data = Simulate(truth, truth, so);
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    Measurement& m = data.rows[i];
+    m.marker = i % 2 ? "A" : "B";
+    m.session = i % 3 ? 0 : 2;
+    const Eigen::VectorXd q = DriveAngles(truth, truth, m);
+    m.p = PredictToolPose(truth, q, m.session) * truth.MarkerPosition(m.marker);
+  }
+  Robot start = testing::SeedNominal();
+  start.markers["A"] = start.markers["B"] = Eigen::Vector3d::Zero();
+  const StartPlacement placement = PlaceStart(truth, data, ErrorModelOptions(), &start);
+  EXPECT_TRUE(placement.warnings.empty()) << placement.warnings.front();
+  EXPECT_LT(placement.rms, 1e-12);
+  EXPECT_LT((start.model().base().matrix() - truth.model().base().matrix()).cwiseAbs().maxCoeff(), 1e-11);
+  EXPECT_LT((start.session_bases.at(2).matrix() - truth.session_bases.at(2).matrix()).cwiseAbs().maxCoeff(), 1e-11);
+  EXPECT_LT((start.markers.at("A") - truth.markers.at("A")).norm(), 1e-11);
+  EXPECT_LT((start.markers.at("B") - truth.markers.at("B")).norm(), 1e-11);
+
+  // A held reflector stays where the file puts it; the base is then registered on it.
+  Robot held = testing::SeedNominal();
+  held.markers["A"] = truth.markers.at("A");
+  held.markers["B"] = Eigen::Vector3d::Zero();
+  ErrorModelOptions options;
+  options.fixed = {"marker_A_x"};
+  PlaceStart(truth, data, options, &held);
+  EXPECT_EQ(held.markers.at("A"), truth.markers.at("A"));
+  EXPECT_LT((held.markers.at("B") - truth.markers.at("B")).norm(), 1e-11);
+}
+
+// Rows without a marker measure the tool origin: the placement sets the tool's translation.
+TEST(StartPlacement, PlacesTheToolOrigin) {
+  Robot truth = testing::SeedNominal();
+  Rng rng(5);
+  truth.model().SetBase(RandomPose(&rng, 2.0));
+  Eigen::Isometry3d tool = truth.model().tool();
+  tool.translation() += Eigen::Vector3d(0.03, -0.11, 0.09);
+  truth.model().SetTool(tool);
+  SimulatorOptions so;
+  so.protocol = "random";
+  so.poses = 20;
+  const Dataset data = Simulate(truth, truth, so);
+  Robot start = testing::SeedNominal();
+  const StartPlacement placement = PlaceStart(truth, data, ErrorModelOptions(), &start);
+  EXPECT_LT(placement.rms, 1e-12);
+  EXPECT_LT((start.model().tool().translation() - tool.translation()).norm(), 1e-11);
+  EXPECT_LT((start.model().base().matrix() - truth.model().base().matrix()).cwiseAbs().maxCoeff(), 1e-11);
 }
 
 TEST(Identifiability, SeedArmHoldsTheFirstRowAndTheLastOffsetAgainstTheTool) {

@@ -1,0 +1,60 @@
+#pragma once
+// What the four error-model estimators (least_squares, ceres, nlopt, ipopt) share beyond the problem:
+// one set of option keys and one estimation sequence, so that they differ only in how they minimise.
+//
+// Options (ErrorModelEstimatorOptions, read once for all four): the error model's keys (fixed, identify_*,
+// initialize_bases, orientation_length, identifiability_tolerance and the bound_* keys, used by the
+// bounded solvers) and the row weighting (loss, loss_scale, weights): every estimator minimises
+// sum_i w_i rho(|r_i|^2) (normal_equations.h).
+//
+// Sequence (EstimateErrorModel):
+//   1. PrepareErrorModel: place bases, tool and markers in closed form, hold what the data cannot
+//      determine (error_model.h); nothing free: converged after zero iterations.
+//   2. the backend's Minimizer from problem->InitialX() with the whole iteration budget;
+//   3. converged: ReanalyzeIdentifiability at the solution and, when it frees or holds parameters, the
+//      Minimizer again from there with what is left of the budget;
+//   4. status, message and iterations (summed) from the runs; FinishErrorModel; details initial_cost_m2
+//      and loss; bounded solvers: parameters_at_bounds and a warning when any (ReportParametersAtBounds).
+// Each backend maps its own return codes to a MinimizerRun (converged, iteration limit, failed).
+#include <functional>
+#include <string>
+
+#include "estimators/error_model/error_model.h"
+#include "estimators/error_model/row_weighting_options.h"
+#include "framework/estimator.h"
+
+namespace kincal {
+
+struct ErrorModelEstimatorOptions {
+  ErrorModelOptions error_model;   // error_model_problem.h
+  RowWeightingOptions weighting;   // robust loss and per-row weights (keys loss, loss_scale, weights)
+
+  bool IsValid(std::string* why) const;
+  // The keys of both (see above). Estimators read their own keys after these, then Finish().
+  void ReadShared(OptionsReader* reader);
+};
+
+struct MinimizerRun {
+  EstimationStatus status = EstimationStatus::kFailed;
+  std::string message;
+  int iterations = 0;              // in the unit the budget counts (iterations or evaluations)
+  int parameters_at_bounds = -1;   // bounded solvers: how many ended on a bound; -1 for unbounded ones
+  nlohmann::json details;          // backend details of this run (the last run's are reported)
+};
+
+// Minimises prep's problem from *x (its InitialX()) with `weighting` in at most `budget` iterations;
+// *x ends at the point the backend returns.
+using ErrorModelMinimizer =
+    std::function<MinimizerRun(const PreparedErrorModel& prep, const RowWeighting& weighting, int budget, Eigen::VectorXd* x)>;
+
+// Steps 1-4 above. `estimator` names the estimator in messages. Throws std::invalid_argument for bad
+// input (PrepareErrorModel's conditions, weights not one per row).
+void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
+                        const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
+                        const Dataset& data, Robot* identified, EstimationReport* report);
+
+// Records how many parameters a bounded solver left on a bound (details.parameters_at_bounds) and, if any,
+// warns that the bounds, not the data, decided them.
+void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report);
+
+}  // namespace kincal

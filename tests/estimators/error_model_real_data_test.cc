@@ -1,0 +1,101 @@
+// Every error-model estimator (least_squares, ceres, nlopt, ipopt) on real measurements, started from the
+// example robot file with default options (issue 11, "estimators that start anywhere"): bases, tool and
+// reflectors are placed in closed form and the bounds centred there, so all four reach the same minimum.
+// Skipped when ../shared/data is absent.
+//   irb120_faro: even rows fit, odd rows scored, reflector 1; reference fit 0.525 mm held-out (data README).
+//   irb120_wu2015: 36 configurations x 3 points fit; test sets 1 and 2 (TestPosition, TestPosition2);
+//   reference 0.277 / 0.285 mm (least_squares and ceres; the published code's result).
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "framework/estimator.h"
+#include "framework/prediction.h"
+#include "tests/estimators/irb120_faro.h"
+#include "tests/estimators/irb120_wu2015.h"
+#include "tests/support/test_util.h"
+
+namespace kincal::testing {
+namespace {
+
+class ErrorModelRealDataTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
+  Dataset all;
+  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  Dataset train, test;
+  SplitEvenOdd(all, &train, &test);
+  const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
+  Robot identified;
+  const EstimationReport report = Estimators().Create(GetParam())->Estimate(nominal, train, &identified);
+  const double heldout = EvaluatePredictions(nominal, identified, test).position_stats.rms;
+  std::printf("%s\nheld-out RMS %.4f mm (reference fit 0.525 mm)\n", report.BriefReport().c_str(), heldout * 1e3);
+  EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
+  EXPECT_EQ(report.details.value("parameters_at_bounds", 0), 0);
+  EXPECT_LE(heldout, 0.526e-3);
+  EXPECT_GE(heldout, 0.520e-3);  // the same minimum, not a better-looking accident
+}
+
+// A robust loss from a far start: Huber at 0.3 mm once diverged to 29 mm held-out when the reflector
+// started at the flange, 124 mm from where it is.
+TEST_P(ErrorModelRealDataTest, Irb120FaroWithAHuberLossFromTheExampleRobotFile) {
+  Dataset all;
+  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  Dataset train, test;
+  SplitEvenOdd(all, &train, &test);
+  const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
+  Robot identified;
+  const EstimationReport report = Estimators()
+                                      .Create(GetParam(), YAML::Load("{loss: huber, loss_scale: 0.3mm}"))
+                                      ->Estimate(nominal, train, &identified);
+  const double heldout = EvaluatePredictions(nominal, identified, test).position_stats.rms;
+  std::printf("%s\nHuber 0.3 mm: held-out RMS %.4f mm\n", report.BriefReport().c_str(), heldout * 1e3);
+  EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
+  EXPECT_LE(heldout, 0.60e-3);
+}
+
+// The held-out RMS of `data` (one test point) with the point's tool-frame position fitted on those rows
+// in closed form, the identified robot held: the published protocol measures each test point on its own,
+// so its position on the tool is not one of the calibration's three points.
+double RmsWithTestPointFitted(const Robot& controller, const Robot& identified, const Dataset& data) {
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  std::vector<Eigen::Isometry3d> poses;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    poses.push_back(PredictToolPose(identified, ActualJointAngles(controller, identified, data, i, previous)));
+    sum += poses.back().linear().transpose() * (data.rows[i].p - poses.back().translation());
+  }
+  const Eigen::Vector3d point = sum / static_cast<double>(data.rows.size());  // R^T R = I: the mean
+  double sum2 = 0.0;
+  for (size_t i = 0; i < data.rows.size(); ++i) sum2 += (poses[i] * point - data.rows[i].p).squaredNorm();
+  return std::sqrt(sum2 / data.rows.size());
+}
+
+TEST_P(ErrorModelRealDataTest, Irb120Wu2015FromTheExampleRobotFile) {
+  Irb120Wu2015 wu;
+  if (!LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu)) GTEST_SKIP() << "no ../shared/data/irb120_wu2015";
+  Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
+  for (const std::string id : {"p1", "p2", "p3"}) nominal.markers[id] = Eigen::Vector3d::Zero();
+  Robot identified;
+  const EstimationReport report = Estimators().Create(GetParam())->Estimate(nominal, wu.calibration, &identified);
+  const double test1_p1 = EvaluatePredictions(nominal, identified, wu.test1).position_stats.rms;
+  const double test1 = RmsWithTestPointFitted(nominal, identified, wu.test1);
+  const double test2 = RmsWithTestPointFitted(nominal, identified, wu.test2);
+  std::printf("%s\ntest set 1: %.4f mm with the test point fitted, %.4f mm as calibration point 1; test set 2: %.4f mm "
+              "(reference 0.277 / 0.285 mm)\n",
+              report.BriefReport().c_str(), test1 * 1e3, test1_p1 * 1e3, test2 * 1e3);
+  EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
+  EXPECT_EQ(report.details.value("parameters_at_bounds", 0), 0);
+  EXPECT_LE(report.final_rms, 0.2456e-3);
+  EXPECT_LE(test1_p1, 0.30e-3);
+  EXPECT_LE(test1, 0.30e-3);
+  EXPECT_LE(test2, 0.30e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(RealData, ErrorModelRealDataTest,
+                         ::testing::Values("least_squares", "ceres", "nlopt", "ipopt"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+}  // namespace
+}  // namespace kincal::testing
