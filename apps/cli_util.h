@@ -1,5 +1,6 @@
 #pragma once
 // Small helpers shared by the subcommands.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,5 +16,18 @@ Eigen::VectorXd ParseList(const std::string& text, const Unit& unit, const std::
 std::vector<std::string> SplitComma(const std::string& text);
 // A YAML file's root, or an empty node when path is empty. Errors name the file and line.
 YAML::Node LoadYamlFile(const std::string& path);
+// Runs `body`, which reads or uses the file `path`; a std::invalid_argument it throws is rethrown with
+// the file's name in front unless the message starts with it already (the options reader knows line and
+// column but not the file; an estimator refusing a dataset knows neither).
+template <typename Body>
+auto NamingFile(const std::string& path, Body&& body) {
+  try {
+    return body();
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    if (path.empty() || message.compare(0, path.size(), path) == 0) throw;
+    throw std::invalid_argument(path + ": " + message);
+  }
+}
 
 }  // namespace kincal::app

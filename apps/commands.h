@@ -16,5 +16,7 @@ void AddStudyCommand(CLI::App& app);
 void AddMergeCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddPredictCommand(CLI::App& app);
+void AddImportCommand(CLI::App& app);
+void AddIkCommand(CLI::App& app);
 
 }  // namespace kincal::app

@@ -16,38 +16,13 @@
 #include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
+#include "framework/compensation_targets.h"
 #include "framework/compensator.h"
 #include "framework/dataset.h"
 #include "framework/error.h"
 #include "framework/robot_file.h"
 
 namespace kincal::app {
-namespace {
-
-std::vector<CompensationTarget> TargetsFrom(const Dataset& data, int dof) {
-  if (data.dof != 0 && data.dof != dof) {
-    ThrowInputError(data.source, 0, 0, "the targets have " + std::to_string(data.dof) +
-                                           " joint (seed) columns but the robot has " + std::to_string(dof) + " joints");
-  }
-  if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit()) {
-    ThrowInputError(data.source, 0, 0,
-                    "targets take x, y, z, optionally qw, qx, qy, qz, seeds q1..qN and from_q1..from_qN; enc, "
-                    "sweep, marker, session and split columns have no meaning here");
-  }
-  if (data.rows.empty()) ThrowInputError(data.source, 0, 0, "no targets");
-  std::vector<CompensationTarget> targets(data.rows.size());
-  for (size_t i = 0; i < data.rows.size(); ++i) {
-    const Measurement& m = data.rows[i];
-    CompensationTarget& t = targets[i];
-    t.T_meas_tool.translation() = m.p;
-    t.has_orientation = m.orientation.has_value();
-    if (t.has_orientation) t.T_meas_tool.linear() = m.orientation->toRotationMatrix();
-    if (data.dof > 0) t.seed = m.q;
-  }
-  return targets;
-}
-
-}  // namespace
 
 void AddCompensateCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
@@ -72,10 +47,11 @@ void AddCompensateCommand(CLI::App& app) {
     const Robot identified = ReadRobotFile(a->identified);
     Compensators().Get(a->method);  // an unknown name fails before any work
     const Dataset data = ReadDataset(a->targets);
-    const std::vector<CompensationTarget> targets = TargetsFrom(data, nominal.dof());
-    std::unique_ptr<Compensator> compensator = Compensators().Create(a->method, LoadYamlFile(a->options));
+    const std::vector<CompensationTarget> targets = CompensationTargetsFrom(data, nominal.dof());
+    std::unique_ptr<Compensator> compensator =
+        NamingFile(a->options, [&] { return Compensators().Create(a->method, LoadYamlFile(a->options)); });
     const auto t_read = Clock::now();
-    compensator->Prepare(nominal, identified);
+    NamingFile(a->identified, [&] { compensator->Prepare(nominal, identified); });
     const auto t_prepared = Clock::now();
     std::vector<CompensationResult> results;
     results.reserve(targets.size());

@@ -30,6 +30,9 @@ void AddFkCommand(CLI::App& app) {
       q[i] = ParseList(items[i], u, "--q")[0];
     }
     const Eigen::Isometry3d T = model.ForwardKinematics(q);
+    if (!T.matrix().allFinite()) {
+      ThrowInputError(*robot_path, 0, 0, "the pose is not finite: values out of range in the robot file or --q");
+    }
     nlohmann::json rows = nlohmann::json::array();
     for (int r = 0; r < 4; ++r) {
       nlohmann::json row = nlohmann::json::array();

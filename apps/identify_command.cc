@@ -61,6 +61,9 @@ void AddIdentifyCommand(CLI::App& app) {
     const std::vector<std::string> methods = SplitComma(a->method);
     for (const auto& m : methods) Estimators().Get(m);  // unknown names fail before any work
     const std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
+    for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
+      NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
+    }
 
     const Dataset train = all.HasSplit() ? all.Subset(Split::kTrain) : all;
     Dataset heldout;
@@ -75,7 +78,8 @@ void AddIdentifyCommand(CLI::App& app) {
     }
 
     Robot identified;
-    const std::vector<EstimationReport> reports = RunPipeline(methods, options, nominal, train, &identified);
+    const std::vector<EstimationReport> reports =
+        NamingFile(a->data, [&] { return RunPipeline(methods, options, nominal, train, &identified); });
     nlohmann::json json;
     json["stages"] = nlohmann::json::array();
     for (const auto& r : reports) {

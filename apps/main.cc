@@ -1,10 +1,26 @@
 // kincal: kinematic calibration of serial robot arms. See `kincal --help` and DESIGN.md.
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <stdexcept>
+#include <string>
 
 #include <yaml-cpp/exceptions.h>
 
 #include "apps/commands.h"
+
+namespace {
+
+// The promise is one line on stderr (docs/RELIABILITY.md): readers escape what they quote; this keeps
+// any other message on one line too.
+std::string OneLine(std::string text) {
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"kincal: kinematic calibration of serial robot arms"};
@@ -13,8 +29,10 @@ int main(int argc, char** argv) {
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
   kincal::app::AddConvertCommand(app);
+  kincal::app::AddImportCommand(app);
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddPredictCommand(app);
+  kincal::app::AddIkCommand(app);
   kincal::app::AddMethodsCommand(app);
   kincal::app::AddStudyCommand(app);
   kincal::app::AddMergeCommand(app);
@@ -29,13 +47,23 @@ int main(int argc, char** argv) {
     std::cerr << "kincal: " << e.what() << " (see kincal --help)\n";
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "kincal: " << e.what() << "\n";
+    std::cerr << "kincal: " << OneLine(e.what()) << "\n";
     return 2;
   } catch (const YAML::Exception& e) {
-    std::cerr << "kincal: " << e.what() << "\n";
+    std::cerr << "kincal: " << OneLine(e.what()) << "\n";
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder that cannot be created or read (permissions, a file in the way, a full disk).
+    std::cerr << "kincal: " << e.path1().string() << ": " << e.code().message() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // Input too large for this machine's memory (readers refuse what they can estimate beforehand).
+    std::cerr << "kincal: out of memory: the input is too large for the memory available\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "kincal: error: " << e.what() << "\n";
+    // Every reader reports bad input as std::invalid_argument; anything else is a defect of kincal
+    // (docs/RELIABILITY.md), reported as such.
+    std::cerr << "kincal: internal error (please report): " << e.what() << "\n";
     return 1;
   }
   return 0;

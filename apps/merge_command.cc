@@ -2,7 +2,10 @@
 // Combines the folders of `kincal study --shard i/N` into the folder an unsharded run writes.
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/commands.h"
+#include "framework/error.h"
 #include "framework/study/report.h"
 #include "framework/study/results_files.h"
 
@@ -18,8 +21,16 @@ void AddMergeCommand(CLI::App& app) {
   cmd->add_option("dirs", a->dirs, "the shards' output folders")->required();
   cmd->add_option("--out", a->out, "output folder (created)")->required();
   cmd->callback([a]() {
-    MergeShards(a->dirs, a->out);
-    WriteReport(a->out);
+    // The shards' files are kincal's own, but they may have been edited, truncated or mixed up since:
+    // what the readers do not check field by field is reported as damage here, naming the folders.
+    try {
+      MergeShards(a->dirs, a->out);
+      WriteReport(a->out);
+    } catch (const nlohmann::json::exception& e) {
+      std::string dirs;
+      for (const auto& d : a->dirs) dirs += (dirs.empty() ? "" : ", ") + d;
+      ThrowInputError("merge: a study.json in " + dirs + " is damaged (" + e.what() + ")");
+    }
     std::printf("merged %zu shards; wrote %s/report.md\n", a->dirs.size(), a->out.c_str());
   });
 }

@@ -9,6 +9,7 @@
 #include "framework/atomic_file.h"
 #include "framework/dataset.h"
 #include "framework/prediction.h"
+#include "framework/error.h"
 #include "framework/robot_file.h"
 
 namespace kincal::app {
@@ -42,6 +43,12 @@ void AddPredictCommand(CLI::App& app) {
       }
     }
     const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
+    for (size_t i = 0; i < predicted.size(); ++i) {  // never a NaN written silently
+      if (!predicted[i].allFinite() || !(predicted[i] - data.rows[i].p).allFinite()) {
+        ThrowInputError(a->robot, 0, 0, "the prediction for " + a->data + " line " + std::to_string(data.rows[i].line) +
+                                            " is not finite: values out of range in the robot file or the dataset");
+      }
+    }
     const Unit mm = LengthUnit("mm");
     const bool marker = data.HasMarkers(), split = data.HasSplit(), session = data.HasSessions();
     double sum2 = 0.0;

@@ -27,7 +27,7 @@ CompensatorRegistry MakeRegistry() {
               FactoryOf<AnalyticDerivativeCompensator>(), true, ""});
   r.Register({"jacobian", "6-D pose error, geometric Jacobian, damped least squares near singularities",
               FactoryOf<JacobianCompensator>(), true, ""});
-  r.Register({"joint_space", "interpolated table of joint corrections built offline (no iteration at run time)",
+  r.Register({"joint_space", "identified pose as exact per-joint Fourier factors built offline; 3 fixed Jacobian steps at run time",
               FactoryOf<JointSpaceCompensator>(), true, ""});
   return r;
 }

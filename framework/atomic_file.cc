@@ -7,9 +7,26 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include "framework/memory.h"
+
 namespace kincal {
+namespace {
+
+// fsync(2) of a file or folder by path. A rename is atomic but not durable: after a power cut the new
+// name can point at a file whose blocks were never written (ext4 with delalloc, xfs) unless the data
+// reached the disk before the rename, and the rename itself is only on disk once the folder is synced.
+bool SyncPath(const std::string& path, bool folder) {
+  const int fd = ::open(path.c_str(), (folder ? O_RDONLY | O_DIRECTORY : O_RDONLY) | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  ::close(fd);
+  return ok;
+}
+
+}  // namespace
 
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer) {
   namespace fs = std::filesystem;
@@ -28,18 +45,25 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
       throw;
     }
     out.flush();
+    out.close();
     if (!out) {
-      out.close();
       std::remove(temp.c_str());
-      throw std::runtime_error(path + ": write failed");
+      throw std::invalid_argument(path + ": write failed (disk full?)");
     }
+  }
+  if (!SyncPath(temp.string(), false)) {
+    std::remove(temp.c_str());
+    throw std::invalid_argument(path + ": cannot flush to disk (" + temp.string() + ")");
   }
   std::error_code ec;
   fs::rename(temp, target, ec);
   if (ec) {
     std::remove(temp.c_str());
-    throw std::runtime_error(path + ": cannot rename into place: " + ec.message());
+    throw std::invalid_argument(path + ": cannot rename into place: " + ec.message());
   }
+  // The new file is complete on disk whatever happens now; a folder that cannot be synced (some network
+  // file systems refuse fsync on folders) only loses durability of the name, so it is not an error.
+  SyncPath(dir.string(), true);
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& content) {
@@ -47,20 +71,34 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
 }
 
 std::string ReadFileToString(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw std::invalid_argument(path + ": is a folder, expected a file");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::invalid_argument(path + ": cannot open file");
   // One read into a string of the file's size (a stringstream grows by copies: slow for large datasets).
   const std::streamoff size = in.tellg();
-  if (size >= 0) {
+  if (size > 0) {
+    CheckMemory(path, 0, static_cast<double>(size), "the file");
     std::string text(static_cast<size_t>(size), '\0');
     in.seekg(0);
     if (in.read(text.data(), size)) return text;
     in.clear();
     in.seekg(0);
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  // A pipe or a device has no size: read in blocks, up to the memory there is (/dev/zero never ends).
+  const double limit = AvailableMemoryBytes() > 0.0 ? AvailableMemoryBytes() / 2.0 : 1e12;
+  std::string text;
+  char block[1 << 16];
+  while (in.read(block, sizeof(block)) || in.gcount() > 0) {
+    text.append(block, static_cast<size_t>(in.gcount()));
+    if (static_cast<double>(text.size()) > limit) {
+      throw std::invalid_argument(path + ": more than " + std::to_string(static_cast<long long>(limit / 1e6)) +
+                                  " MB and still not at its end: not a file kincal can read");
+    }
+  }
+  if (in.bad()) throw std::invalid_argument(path + ": read error");
+  return text;
 }
 
 }  // namespace kincal

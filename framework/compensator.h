@@ -17,6 +17,8 @@
 
 namespace kincal {
 
+class NominalInverseKinematics;
+
 enum class CompensationStatus { kConverged, kIterationLimit, kSingular, kUnreachable, kFailed };
 std::string ToString(CompensationStatus status);
 
@@ -63,6 +65,9 @@ class Compensator {
  protected:
   const Robot& nominal() const { return nominal_; }
   const Robot& identified() const { return identified_; }
+  // Iterative methods return true: a target they do not reach from the seed is retried from the nominal
+  // arm's closed-form branches (RestartFromBranches). Default false (table lookups gain nothing).
+  virtual bool RestartsFromBranches() const { return false; }
 
  private:
   virtual void DoPrepare() {}
@@ -70,8 +75,13 @@ class Compensator {
   virtual void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                             CompensationResult* result) const = 0;
 
+  void RestartFromBranches(const CompensationTarget& target, const Eigen::VectorXd& seed,
+                           CompensationResult* result) const;
+
   Robot nominal_;
   Robot identified_;
+  // The controller's inverse kinematics (framework/nominal_ik.h), for targets without a seed.
+  std::shared_ptr<const NominalInverseKinematics> nominal_ik_;
   bool prepared_ = false;
 };
 

@@ -1,5 +1,6 @@
 #include "framework/dataset.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -8,6 +9,7 @@
 #include "framework/atomic_file.h"
 #include "framework/csv.h"
 #include "framework/error.h"
+#include "framework/memory.h"
 
 namespace kincal {
 
@@ -128,6 +130,9 @@ bool IsIndexed(const std::string& stem, const std::string& prefix, int* index) {
   if (stem.size() <= prefix.size() || stem.compare(0, prefix.size(), prefix) != 0) return false;
   const std::string digits = stem.substr(prefix.size());
   if (digits.find_first_not_of("0123456789") != std::string::npos || digits[0] == '0') return false;
+  // No robot has a million joints; longer digit strings (q99999999999999999999_deg) would overflow int
+  // and are reported as unknown columns by the caller.
+  if (digits.size() > 6) return false;
   *index = std::stoi(digits);
   return true;
 }
@@ -212,6 +217,15 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
 }  // namespace
 
 Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
+  {
+    // The cells as strings (CsvTable) and the rows (Measurement) are held at once: about this much.
+    const double lines = static_cast<double>(std::count(text.begin(), text.end(), '\n')) +
+                        (text.empty() || text.back() != '\n' ? 1.0 : 0.0);
+    const double cells = static_cast<double>(std::count(text.begin(), text.end(), ',')) + lines;
+    const double bytes = cells * (sizeof(std::string) + sizeof(int) + 8.0) +
+                         lines * (sizeof(CsvRow) + sizeof(Measurement) + 64.0) + static_cast<double>(text.size());
+    CheckMemory(source, 0, bytes, "reading " + std::to_string(static_cast<long long>(lines)) + " lines");
+  }
   const CsvTable t = ParseCsv(text, source);
   const Columns c = MapColumns(t, source);
   Dataset data;
@@ -264,9 +278,14 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
                           ? quat
                           : quat.normalized();
     }
-    if (c.sweep >= 0 && !row.cells[c.sweep].empty()) m.sweep = static_cast<int>(integer(c.sweep, "sweep"));
+    const auto small_integer = [&](int col, const char* what) {
+      const int64_t v = integer(col, what);
+      if (std::abs(v) > 1000000) ThrowInputError(source, row.line, row.columns[col], std::string("expected ") + what + " between -1000000 and 1000000");
+      return static_cast<int>(v);
+    };
+    if (c.sweep >= 0 && !row.cells[c.sweep].empty()) m.sweep = small_integer(c.sweep, "sweep");
     if (c.marker >= 0) m.marker = row.cells[c.marker];
-    if (c.session >= 0 && !row.cells[c.session].empty()) m.session = static_cast<int>(integer(c.session, "session"));
+    if (c.session >= 0 && !row.cells[c.session].empty()) m.session = small_integer(c.session, "session");
     if (c.split >= 0) {
       const std::string& s = row.cells[c.split];
       if (s == "train") m.split = Split::kTrain;
@@ -318,6 +337,18 @@ std::string DatasetToCsv(const Dataset& data) {
   return out.str();
 }
 
-void WriteDataset(const Dataset& data, const std::string& path) { WriteFileAtomically(path, DatasetToCsv(data)); }
+void WriteDataset(const Dataset& data, const std::string& path) {
+  // Never a NaN written silently: a dataset made from a robot with values out of range is refused.
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const Measurement& m = data.rows[i];
+    const bool finite = m.q.allFinite() && m.p.allFinite() && (!m.orientation || m.orientation->coeffs().allFinite()) &&
+                        (!m.from_q || m.from_q->allFinite());
+    if (!finite) {
+      ThrowInputError(path, 0, 0, "row " + std::to_string(i + 1) + " would hold non-finite values (NaN or infinite): "
+                                  "values out of range in the robot files?");
+    }
+  }
+  WriteFileAtomically(path, DatasetToCsv(data));
+}
 
 }  // namespace kincal

@@ -1,6 +1,29 @@
 #include "framework/error.h"
 
+#include <cstdio>
+
 namespace kincal {
+namespace {
+
+// Messages quote what the file holds ("unknown key '...'"); a quoted newline, carriage return or NUL
+// would break the one-line promise (and the terminal): control bytes are written as \xNN.
+std::string OneLine(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof(escape), "\\x%02x", c);
+      out += escape;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string Located(const std::string& file, int line, int column, const std::string& what) {
   std::string out = file.empty() ? std::string("<input>") : file;
@@ -8,13 +31,13 @@ std::string Located(const std::string& file, int line, int column, const std::st
     out += ":" + std::to_string(line);
     if (column > 0) out += ":" + std::to_string(column);
   }
-  return out + ": " + what;
+  return out + ": " + OneLine(what);
 }
 
 void ThrowInputError(const std::string& file, int line, int column, const std::string& what) {
   throw std::invalid_argument(Located(file, line, column, what));
 }
 
-void ThrowInputError(const std::string& what) { throw std::invalid_argument(what); }
+void ThrowInputError(const std::string& what) { throw std::invalid_argument(OneLine(what)); }
 
 }  // namespace kincal

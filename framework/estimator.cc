@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "framework/memory.h"
 #include "framework/prediction.h"
 
 namespace kincal {
@@ -64,10 +65,26 @@ EstimationReport Estimator::Estimate(const Robot& start, const Robot& controller
   report.estimator = name();
   report.num_measurements = static_cast<int>(data.rows.size());
   *identified = start;
+  // The identification Jacobian (3 or 6 rows per measurement, one column per parameter) and the
+  // solvers' copies of it are the largest allocation of most estimators: refuse beyond the memory.
+  const double jacobian_bytes = static_cast<double>(data.rows.size()) * (data.HasOrientation() ? 6.0 : 3.0) *
+                                (start.model().num_parameters() + start.dof()) * sizeof(double);
+  CheckMemory(data.source, 0, 4.0 * jacobian_bytes, "identifying from " + std::to_string(data.rows.size()) + " rows");
   DoEstimate(start, controller, data, identified, &report);
+  // No NaN leaves an estimator: a robot with non-finite parameters is never returned (nor written).
+  if (!identified->model().Parameters().allFinite()) {
+    *identified = start;
+    report.status = EstimationStatus::kFailed;
+    report.message = "non-finite (NaN or infinite) parameters: the data cannot determine the robot "
+                     "(degenerate poses or values out of range); the start robot is returned unchanged";
+  }
   report.wall_time_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (std::isnan(report.initial_rms)) report.initial_rms = EvaluatePredictions(controller, start, data).position_stats.rms;
   if (std::isnan(report.final_rms)) report.final_rms = EvaluatePredictions(controller, *identified, data).position_stats.rms;
+  if (!std::isfinite(report.final_rms) && report.status != EstimationStatus::kFailed) {
+    report.status = EstimationStatus::kFailed;
+    report.message = "the residual is not finite: values out of range in the robot or the dataset";
+  }
   return report;
 }
 

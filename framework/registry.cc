@@ -31,6 +31,8 @@ void OptionsReader::Get(const std::string& key, int* value) {
   double v = *value;
   Get(key, &v);
   if (v != std::floor(v)) Fail(key, "expected an integer");
+  // Converting a double beyond int's range is undefined behaviour, not an error: check first.
+  if (std::fabs(v) > 2147483647.0) Fail(key, "expected an integer of at most 2147483647 in magnitude");
   *value = static_cast<int>(v);
 }
 

@@ -48,6 +48,13 @@ class Robot {
   std::optional<Eigen::Vector3d> gravity;
   // Joint error terms, bound to the model (JointErrors::Bind) with their coefficients.
   JointErrors joint_errors;
+  // Provenance of a robot imported from a URDF (kincal import): the file, the chain's end links and its
+  // moving joints. `kincal convert --to urdf` then edits that file's joint numbers and keeps the rest.
+  struct UrdfSource {
+    std::string path, base_link, tip_link;
+    std::vector<std::string> joints;
+  };
+  std::optional<UrdfSource> urdf;
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
 

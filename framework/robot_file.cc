@@ -1,5 +1,8 @@
 #include "framework/robot_file.h"
 
+#include <cctype>
+#include <cstdio>
+
 #include <set>
 #include <sstream>
 
@@ -43,7 +46,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   }
   if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
   r.CheckKeys(root, {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
-                     "velocity_limits", "coupling", "gravity", "joint_errors"},
+                     "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
               "the robot file");
 
   Unit length = LengthUnit("mm"), angle = AngleUnit("deg");
@@ -91,7 +94,11 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     r.CheckKeys(row, allowed, "joint row " + std::to_string(i + 1));
     for (const auto& key : keys) {
       // Hayati's beta and a POE row's theta default to 0 (an MDH table reads as a Hayati model unchanged).
-      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta"))) continue;
+      // A URDF row's offset (no URDF field) defaults to 0 as well.
+      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta") ||
+                        (convention == "urdf" && key == "offset"))) {
+        continue;
+      }
       if (!row[key]) r.Fail(row, "joint row " + std::to_string(i + 1) + " lacks '" + key + "'");
       const std::string name = key + "_" + std::to_string(i + 1);
       const int index = model->ParameterIndex(name);
@@ -157,6 +164,21 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
       robot.session_bases[static_cast<int>(id)] = r.Pose(kv.second, "session " + kv.first.Scalar(), length, angle);
     }
   }
+  if (root["urdf"]) {
+    const YAML::Node u = root["urdf"];
+    r.ExpectMap(u, "urdf");
+    r.CheckKeys(u, {"source", "base", "tip", "joints"}, "urdf");
+    for (const char* key : {"source", "base", "tip", "joints"}) {
+      if (!u[key]) r.Fail(u, std::string("urdf lacks '") + key + "'");
+    }
+    Robot::UrdfSource source{r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"),
+                             r.String(u["tip"], "urdf.tip"), {}};
+    if (!u["joints"].IsSequence() || static_cast<int>(u["joints"].size()) != n) {
+      r.Fail(u["joints"], "expected urdf.joints to name the " + std::to_string(n) + " moving joints");
+    }
+    for (const auto& j : u["joints"]) source.joints.push_back(r.String(j, "a urdf joint name"));
+    robot.urdf = source;
+  }
   robot_file::ReadJointLevel(r, root, &robot);
   return robot;
 }
@@ -187,6 +209,32 @@ std::string IsometryText(const Eigen::Isometry3d& T, const Unit& length, const U
   return "{xyz: " + List(xyz) + ", rpy: " + List(r) + "}";
 }
 
+// A name or marker id as YAML that reads back to the same string: plain when it is a simple word,
+// double-quoted with escapes otherwise ("a: b", "#1", "- x", "null", "", leading spaces, control bytes).
+std::string YamlString(const std::string& text) {
+  bool plain = !text.empty() && text != "null" && text != "Null" && text != "NULL" && text != "~";
+  for (size_t i = 0; i < text.size() && plain; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    plain = std::isalnum(c) || c == '_' || (i > 0 && (c == '-' || c == '.'));
+  }
+  if (plain) return text;
+  std::string out = "\"";
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof(escape), "\\x%02x", c);
+      out += escape;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
 }  // namespace
 
 std::string RobotToYaml(const Robot& robot) {
@@ -194,7 +242,7 @@ std::string RobotToYaml(const Robot& robot) {
   const Unit& L = robot.length_unit;
   const Unit& A = robot.angle_unit;
   std::ostringstream out;
-  out << "name: " << robot.name << "\n";
+  out << "name: " << YamlString(robot.name) << "\n";
   out << "convention: " << model.convention() << "\n";
   out << "units: {length: " << L.name << ", angle: " << A.name << "}\n";
   out << "joints:\n";
@@ -239,8 +287,20 @@ std::string RobotToYaml(const Robot& robot) {
   if (!robot.markers.empty()) {
     out << "markers:\n";
     for (const auto& [id, p] : robot.markers) {
-      out << "  " << id << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
+      out << "  " << YamlString(id) << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
+  }
+  if (robot.urdf) {
+    // Names are written as YAML double-quoted strings (URDF names may hold any character).
+    auto quoted = [](const std::string& text) {
+      std::string q = "\"";
+      for (char c : text) q += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+      return q + "\"";
+    };
+    std::vector<std::string> joints;
+    for (const auto& j : robot.urdf->joints) joints.push_back(quoted(j));
+    out << "urdf: {source: " << quoted(robot.urdf->path) << ", base: " << quoted(robot.urdf->base_link)
+        << ", tip: " << quoted(robot.urdf->tip_link) << ", joints: " << List(joints) << "}\n";
   }
   if (!robot.session_bases.empty()) {
     out << "sessions:\n";

@@ -56,6 +56,10 @@ std::string FormatExact(double value) {
   // repr does): positional for decimal exponents -5 < e < 16 ("0.0001", "20000"), scientific otherwise
   // ("1e-05"). std::to_chars alone picks whichever text is shorter, which turns 0.0001 into "1e-04".
   if (value == 0.0) value = 0.0;  // no "-0" in files
+  // Writers refuse non-finite values before they get here; should one slip through, it is written as
+  // text that every kincal reader refuses (never as a number).
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   char buffer[400];  // fixed notation of 1e15 needs 16 digits, of 1e-5 (shortest) 7 characters
   const std::to_chars_result scientific =
       std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::scientific);

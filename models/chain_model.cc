@@ -44,6 +44,7 @@ void ChainModel::BuildChain(std::vector<JointType> joint_types, std::vector<Para
   joint_ops_.clear();
   for (const Op& op : ops_) {
     if (op.joint >= 0) {
+      if (op.scale != 1.0) throw std::logic_error("ChainModel: a joint op must have scale 1");
       if (op.joint != static_cast<int>(joint_ops_.size())) {
         throw std::logic_error("ChainModel: joint ops must appear once each, in order");
       }
@@ -86,13 +87,13 @@ void ChainModel::OnParametersChanged() {
   cos_.resize(ops_.size());
   sin_.resize(ops_.size());
   for (size_t k = 0; k < ops_.size(); ++k) {
-    cos_[k] = std::cos(v[ops_[k].parameter]);
-    sin_[k] = std::sin(v[ops_[k].parameter]);
+    cos_[k] = std::cos(ops_[k].scale * v[ops_[k].parameter]);
+    sin_[k] = std::sin(ops_[k].scale * v[ops_[k].parameter]);
   }
   steps_.clear();
   for (size_t k = 0; k < ops_.size(); ++k) {
     const Op& op = ops_[k];
-    const double value = v[op.parameter];
+    const double value = op.scale * v[op.parameter];
     // Translating or turning by exactly zero changes no bit of the frame; such ops are skipped.
     if (op.joint < 0 && value == 0.0) continue;
     steps_.push_back({op.type, op.joint, value, cos_[k], sin_[k]});
@@ -133,7 +134,7 @@ std::vector<Eigen::Isometry3d> ChainModel::FramePoses(const Eigen::VectorXd& q) 
   Frame F;
   for (size_t k = 0; k < ops_.size(); ++k) {
     const Op& op = ops_[k];
-    const double value = v[op.parameter] + (op.joint >= 0 ? q[op.joint] : 0.0);
+    const double value = op.scale * v[op.parameter] + (op.joint >= 0 ? q[op.joint] : 0.0);
     Apply(op.type, value, std::cos(value), std::sin(value), &F);
     const bool link_ends = k + 1 == ops_.size() || ops_[k + 1].link != op.link;
     if (link_ends) {
@@ -200,17 +201,18 @@ Eigen::Isometry3d ChainModel::ParameterJacobian(const Eigen::VectorXd& q, const 
     const Op& op = ops_[k];
     const Eigen::Vector3d axis = F.R.col(AxisOf(op.type));
     auto column = J->col(op.parameter);
-    double value = v[op.parameter], c = cos_[k], s = sin_[k];
+    double value = op.scale * v[op.parameter], c = cos_[k], s = sin_[k];
     if (op.joint >= 0) {
       value += q[op.joint];
       c = std::cos(value);
       s = std::sin(value);
     }
+    // += and scale: a parameter that drives several ops collects each op's share (chain rule).
     if (IsRotation(op.type)) {
-      column.head<3>() = -axis.cross(F.p);
-      column.tail<3>() = axis;
+      column.head<3>() -= op.scale * axis.cross(F.p);
+      column.tail<3>() += op.scale * axis;
     } else {
-      column.head<3>() = axis;
+      column.head<3>() += op.scale * axis;
     }
     Apply(op.type, value, c, s, &F);
   }

@@ -25,6 +25,9 @@ class ChainModel : public KinematicModel {
     int parameter = -1;  // index into Parameters()
     int joint = -1;      // 0-based joint whose variable is added to the parameter, -1 if none
     int link = 0;        // 0 = base, 1..n = link i (ends at frame i), n + 1 = tool
+    // The op turns or moves by scale * parameter (joint ops: parameter + q, scale 1). A parameter may
+    // drive several ops (URDF's axis: R_a Rz(q) R_a^T uses its angles twice, once with scale -1).
+    double scale = 1.0;
   };
 
   Eigen::Isometry3d ForwardKinematics(const Eigen::VectorXd& q) const override;

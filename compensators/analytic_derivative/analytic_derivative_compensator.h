@@ -47,6 +47,9 @@ class AnalyticDerivativeCompensator final : public Compensator {
   std::string name() const override { return "analytic_derivative"; }
   const Options& options() const { return options_; }
 
+ protected:
+  bool RestartsFromBranches() const override { return true; }
+
  private:
   void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                     CompensationResult* result) const override;

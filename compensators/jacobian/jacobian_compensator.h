@@ -38,6 +38,9 @@ class JacobianCompensator final : public Compensator {
   std::string name() const override { return "jacobian"; }
   const Options& options() const { return options_; }
 
+ protected:
+  bool RestartsFromBranches() const override { return true; }
+
  private:
   void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                     CompensationResult* result) const override;

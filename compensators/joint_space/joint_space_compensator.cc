@@ -1,61 +1,19 @@
 #include "compensators/joint_space/joint_space_compensator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+
 #include "compensators/common/random_targets.h"
-#include "compensators/jacobian/jacobian_compensator.h"
+#include "framework/math.h"
 #include "framework/random.h"
-#include "framework/units.h"
 
 namespace kincal {
 namespace {
 
-// dq(q_nom) = q_id - q_nom; false when the solve did not converge.
-bool Correction(const Compensator& solver, const Robot& nominal, const Eigen::VectorXd& q_nom, Eigen::VectorXd* dq) {
-  CompensationTarget target;
-  target.T_meas_tool = nominal.model().ForwardKinematics(q_nom);
-  target.seed = q_nom;
-  const CompensationResult result = solver.Compensate(target);
-  *dq = result.q_actual - q_nom;
-  return result.report.status == CompensationStatus::kConverged;
-}
-
-// Joints whose change alters the correction, probed at a few well-conditioned random configurations.
-std::vector<int> JointsThatMatter(const Compensator& solver, const Robot& nominal, double tolerance) {
-  const int n = nominal.dof();
-  std::vector<bool> matters(n, false);
-  Rng rng(20150731);
-  const auto random_joints = [&](Eigen::VectorXd* q) {
-    for (int j = 0; j < n; ++j) {
-      const auto [low, high] = nominal.Limit(j);
-      (*q)[j] = rng.Uniform(low, high);
-    }
-  };
-  int samples = 0;
-  for (int attempt = 0; attempt < 200 && samples < 6; ++attempt) {
-    Eigen::VectorXd q(n), dq0, dq1;
-    random_joints(&q);
-    if (JacobianConditionRatio(nominal.model(), q, 0.5) < 0.02 || !Correction(solver, nominal, q, &dq0)) continue;
-    ++samples;
-    for (int j = 0; j < n; ++j) {
-      if (matters[j]) continue;
-      Eigen::VectorXd moved = q;
-      const auto [low, high] = nominal.Limit(j);
-      moved[j] = rng.Uniform(low, high);
-      // A move that fails to converge or lands near a singularity says nothing; count the joint in.
-      if (JacobianConditionRatio(nominal.model(), moved, 0.5) < 0.02 || !Correction(solver, nominal, moved, &dq1) ||
-          (dq1 - dq0).lpNorm<Eigen::Infinity>() > tolerance) {
-        matters[j] = true;
-      }
-    }
-  }
-  std::vector<int> joints;
-  for (int j = 0; j < n; ++j) {
-    if (matters[j] || samples == 0) joints.push_back(j + 1);
-  }
-  return joints;
-}
+using Pose34 = PoseExpansion::Pose34;
 
 }  // namespace
 
@@ -66,16 +24,13 @@ bool JointSpaceCompensator::Options::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  for (size_t i = 0; i < joints.size(); ++i) {
-    if (joints[i] < 1) return fail("joints are 1-based");
-    for (size_t k = 0; k < i; ++k) {
-      if (joints[k] == joints[i]) return fail("a joint is listed twice");
-    }
-  }
-  if (points < 2) return fail("points must be >= 2");
-  if (interpolation != "linear" && interpolation != "cubic") return fail("interpolation must be linear or cubic");
-  if (!(max_correction > 0)) return fail("max_correction must be > 0");
-  if (!(invariance_tolerance > 0)) return fail("invariance_tolerance must be > 0");
+  if (degree < 1 || degree > 8) return fail("degree must be 1 to 8");
+  if (steps < 1 || steps > 5) return fail("steps must be 1 to 5");
+  if (!(length_scale > 0)) return fail("length_scale must be > 0");
+  if (!(damping >= 0)) return fail("damping must be >= 0");
+  if (!(max_step > 0)) return fail("max_step must be > 0");
+  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
+  if (!(max_fit_error > 0)) return fail("max_fit_error must be > 0");
   if (!(max_table_bytes > 0)) return fail("max_table_bytes must be > 0");
   return true;
 }
@@ -83,19 +38,14 @@ bool JointSpaceCompensator::Options::IsValid(std::string* why) const {
 JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YAML::Node& node) {
   Options o;
   OptionsReader reader(node, "joint_space");
-  std::vector<std::string> joints;
-  reader.Get("joints", &joints);
-  if (!(joints.size() == 1 && joints[0] == "auto")) {
-    for (const auto& j : joints) {
-      double v = 0;
-      if (!ParseDouble(j, &v) || v != std::floor(v)) reader.Fail("joints", "expected 1-based joint numbers or auto");
-      o.joints.push_back(static_cast<int>(v));
-    }
-  }
-  reader.Get("points", &o.points);
-  reader.Get("interpolation", &o.interpolation);
-  reader.Get("max_correction", &o.max_correction);
-  reader.Get("invariance_tolerance", &o.invariance_tolerance);
+  reader.Get("degree", &o.degree);
+  reader.Get("steps", &o.steps);
+  reader.GetLength("length_scale", &o.length_scale);
+  reader.Get("damping", &o.damping);
+  reader.Get("max_step", &o.max_step);
+  reader.GetLength("position_tolerance", &o.position_tolerance);
+  reader.Get("orientation_tolerance", &o.orientation_tolerance);
+  reader.Get("max_fit_error", &o.max_fit_error);
   reader.Get("max_table_bytes", &o.max_table_bytes);
   reader.Finish();
   return o;
@@ -103,73 +53,181 @@ JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YA
 
 void JointSpaceCompensator::DoPrepare() {
   const auto t0 = std::chrono::steady_clock::now();
-  const Robot& nom = nominal();
-  const int n = nom.dof();
-  interpolation_ = options_.interpolation == "linear" ? CorrectionTable::Interpolation::kLinear
-                                                      : CorrectionTable::Interpolation::kCubic;
-  // Near singular configurations the exact solution can lie far along the near-null direction, on
-  // another branch than the neighbouring nodes; small trust steps keep the solve next to q_nom, and
-  // max_correction flags what still wanders.
-  JacobianCompensator::Options solver_options;
-  solver_options.iteration.trust_radius = 0.02;
-  solver_options.iteration.max_iterations = 12;  // 0.24 rad at most: beyond max_correction anyway
-  JacobianCompensator solver(solver_options);
-  solver.Prepare(nominal(), identified());
-
-  std::vector<int> joints = options_.joints;
-  for (int j : joints) {
-    if (j > n) throw std::invalid_argument("joint_space: joint " + std::to_string(j) + " of a " + std::to_string(n) + "-joint robot");
-  }
-  if (joints.empty()) joints = JointsThatMatter(solver, nom, options_.invariance_tolerance);
-
-  std::vector<CorrectionTable::Axis> axes;
-  for (int j : joints) {
-    const auto [low, high] = nom.Limit(j - 1);
-    axes.push_back({j - 1, low, high, options_.points});
-  }
-  const double bytes = CorrectionTable::MemoryBytes(axes, n);
-  if (bytes > options_.max_table_bytes) {
-    throw std::invalid_argument("joint_space: a table over " + std::to_string(joints.size()) + " joints with " +
-                                std::to_string(options_.points) + " points each needs " + std::to_string(bytes / 1e6) +
-                                " MB, over max_table_bytes");
-  }
-  table_ = CorrectionTable(axes, n);
-
-  // Joints off the grid sit at 0 (or mid-range when 0 is outside their limits) while tabulating.
-  Eigen::VectorXd q(n), dq;
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("joint_space: " + why);
+  const Robot& id = identified();
+  const KinematicModel& model = id.model();
+  const int n = id.dof();
+  if (n < 2 || n > kMaxJoints) throw std::invalid_argument("joint_space: needs 2 to 16 joints");
+  const double bytes = 12 * sizeof(double) * (2.0 * options_.degree + 1) * n;
+  if (bytes > options_.max_table_bytes) throw std::invalid_argument("joint_space: the expansion exceeds max_table_bytes");
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  const Eigen::Isometry3d T0 = model.ForwardKinematics(zero), T0_inv = T0.inverse();
+  T_zero_ = T0.matrix();
+  factors_.clear();
   for (int j = 0; j < n; ++j) {
-    const auto [low, high] = nom.Limit(j);
-    q[j] = (low <= 0.0 && 0.0 <= high) ? 0.0 : 0.5 * (low + high);
+    const auto [low, high] = id.Limit(j);
+    factors_.push_back(PoseExpansion::Fit({{j, model.joint_type(j), low, high}}, options_.degree, zero,
+                                          [&](const Eigen::VectorXd& q) {
+                                            return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv);
+                                          }));
   }
-  for (int64_t node = 0; node < table_.num_nodes(); ++node) {
-    table_.NodeJoints(node, &q);
-    if (!Correction(solver, nom, q, &dq) || dq.lpNorm<Eigen::Infinity>() > options_.max_correction) {
-      table_.Flag(node);
+
+  // Screws at q = 0: dX_j/dq_j at 0 is [omega_j]x | v_j, X_j(0) being the identity.
+  screws_.resize(6, n);
+  for (int j = 0; j < n; ++j) {
+    Pose34 X, dX;
+    factors_[j].EvaluateSingle(0.0, &X, &dX);
+    screws_.col(j).head<3>() = dX.col(3);
+    screws_.col(j).tail<3>() = 0.5 * Eigen::Vector3d(dX(2, 1) - dX(1, 2), dX(0, 2) - dX(2, 0), dX(1, 0) - dX(0, 1));
+  }
+
+  // The fit against the model at random configurations (every angle for revolute joints: the series
+  // is periodic; prismatic joints within their limits).
+  info_ = TableInfo();
+  Rng rng(20261123);
+  for (int i = 0; i < 200; ++i) {
+    Joints q(n);
+    for (int j = 0; j < n; ++j) {
+      const auto [low, high] = id.Limit(j);
+      q[j] = model.joint_type(j) == JointType::kRevolute ? rng.Uniform(-M_PI, M_PI) : rng.Uniform(low, high);
     }
-    std::copy(dq.data(), dq.data() + n, table_.values(node));
+    Eigen::Isometry3d T;
+    Pose(q, &T);
+    const Eigen::Isometry3d T_model = model.ForwardKinematics(q);
+    info_.fit_position_error = std::max(info_.fit_position_error, (T.translation() - T_model.translation()).norm());
+    info_.fit_orientation_error =
+        std::max(info_.fit_orientation_error, (T.linear() - T_model.linear()).cwiseAbs().maxCoeff());
   }
-  info_.joints = joints;
-  info_.points = options_.points;
-  info_.nodes = table_.num_nodes();
-  info_.memory_bytes = table_.memory_bytes();
-  info_.unconverged_nodes = table_.num_flagged();
+  if (!(info_.fit_position_error <= options_.max_fit_error && info_.fit_orientation_error <= options_.max_fit_error)) {
+    throw std::invalid_argument("joint_space: the degree-" + std::to_string(options_.degree) + " expansion misses the " +
+                                "identified model by " + std::to_string(info_.fit_position_error) + " m, " +
+                                std::to_string(info_.fit_orientation_error) + " (over max_fit_error)");
+  }
+  // The common part of the correction (header): exact corrections at well-conditioned random
+  // configurations of the nominal robot, solved offline by as many steps as they need.
+  offset_ = Eigen::VectorXd::Zero(n);
+  std::vector<std::vector<double>> corrections(n);
+  for (int attempt = 0; attempt < 1000 && corrections[0].size() < 100; ++attempt) {
+    Eigen::VectorXd q(n);
+    for (int j = 0; j < n; ++j) {
+      const auto [low, high] = nominal().Limit(j);
+      q[j] = rng.Uniform(low, high);
+    }
+    if (JacobianConditionRatio(nominal().model(), q, options_.length_scale) < 0.02) continue;
+    CompensationTarget target;
+    target.T_meas_tool = nominal().model().ForwardKinematics(q);
+    Joints q_id = q;
+    bool cut = false;
+    Steps(target, 20, &q_id, &cut);
+    Eigen::Isometry3d T;
+    Pose(q_id, &T);
+    if (PoseError(T, target.T_meas_tool).norm() > 1e-9) continue;
+    for (int j = 0; j < n; ++j) corrections[j].push_back(q_id[j] - q[j]);
+  }
+  for (int j = 0; j < n && !corrections[j].empty(); ++j) {
+    std::vector<double>& c = corrections[j];
+    std::nth_element(c.begin(), c.begin() + c.size() / 2, c.end());
+    offset_[j] = c[c.size() / 2];
+  }
+  info_.offset_samples = static_cast<int>(corrections[0].size());
+  info_.factors = n;
+  info_.terms = factors_[0].num_terms();
+  info_.memory_bytes = sizeof(T_zero_) + offset_.size() * sizeof(double);
+  for (const PoseExpansion& f : factors_) info_.memory_bytes += f.memory_bytes();
   info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void JointSpaceCompensator::DoCompensate(const CompensationTarget& /*target*/, const Eigen::VectorXd& seed,
+bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const {
+  const int n = static_cast<int>(q.size());
+  // P = X_1 .. X_j as rotation and translation; the spatial twist of joint j is its screw at q = 0
+  // carried by X_1 .. X_(j-1) (Murray, Li and Sastry eq. 3.54): omega = R_P omega_j,
+  // v = R_P v_j + p_P x omega, v being the velocity of the point at the frame's origin.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  bool inside = true;
+  Eigen::Matrix<double, 6, kMaxJoints> twist;
+  for (int j = 0; j < n; ++j) {
+    if (J) {
+      twist.col(j).tail<3>() = R * screws_.col(j).tail<3>();
+      twist.col(j).head<3>() = R * screws_.col(j).head<3>() + p.cross(twist.col(j).tail<3>());
+    }
+    Pose34 X;
+    inside = factors_[j].EvaluateSingle(q[j], &X) && inside;
+    p += R * X.col(3);
+    R = R * X.leftCols<3>();
+  }
+  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
+  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
+  if (!J) return inside;
+  J->resize(6, n);
+  const Eigen::Vector3d p_tool = T_meas_tool->translation();
+  for (int j = 0; j < n; ++j) {
+    J->col(j).tail<3>() = twist.col(j).tail<3>();
+    J->col(j).head<3>() = twist.col(j).head<3>() + twist.col(j).tail<3>().cross(p_tool);
+  }
+  return inside;
+}
+
+bool JointSpaceCompensator::Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const {
+  const int n = static_cast<int>(q->size());
+  const int rows = target.has_orientation ? 6 : 3;
+  Vector6d weights = Vector6d::Ones();
+  weights.head<3>() /= options_.length_scale;
+  const double mu = options_.damping * options_.damping;
+  Jacobian J;
+  Eigen::Isometry3d T;
+  bool inside = true;
+  for (int step = 0; step < steps; ++step) {
+    inside = Pose(*q, &T, &J) && inside;
+    const Vector6d e = weights.cwiseProduct(PoseError(T, target.T_meas_tool));
+    const Jacobian A = weights.asDiagonal() * J;
+    Joints dq(n);
+    if (n == 6 && rows == 6) {
+      Eigen::Matrix<double, 6, 6> normal;
+      const Eigen::Matrix<double, 6, 6> A6 = A;
+      normal.noalias() = A6.transpose() * A6;
+      normal.diagonal().array() += mu;
+      dq = normal.llt().solve(A6.transpose() * e);
+    } else {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints> normal(n, n);
+      normal.noalias() = A.topRows(rows).transpose() * A.topRows(rows);
+      normal.diagonal().array() += mu;
+      // LDLT: with damping 0 a position-only target leaves the normal matrix singular.
+      dq = normal.ldlt().solve(A.topRows(rows).transpose() * e.head(rows));
+    }
+    const double length = dq.norm();
+    if (!(length <= options_.max_step)) {
+      dq *= std::isfinite(length) ? options_.max_step / length : 0.0;
+      *cut = true;
+    }
+    *q += dq;
+  }
+  return inside;
+}
+
+void JointSpaceCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                                          CompensationResult* result) const {
-  result->q_actual.resize(seed.size());
-  const CorrectionTable::Lookup lookup = table_.Interpolate(seed, interpolation_, result->q_actual.data());
-  result->q_actual += seed;
-  result->report.iterations = 0;
-  if (!lookup.inside) {
+  Joints q = seed + offset_;
+  bool cut = false;
+  bool inside = Steps(target, options_.steps, &q, &cut);
+  Eigen::Isometry3d T;
+  inside = Pose(q, &T) && inside;
+  const Vector6d e = PoseError(T, target.T_meas_tool);
+  const double position = e.head<3>().norm(), orientation = target.has_orientation ? e.tail<3>().norm() : 0.0;
+  result->q_actual = q;
+  result->report.iterations = options_.steps;
+  if (!inside) {
     result->report.status = CompensationStatus::kFailed;
-    result->report.message = "seed outside the table: correction of the nearest edge";
-  } else if (lookup.flagged) {
-    result->report.status = CompensationStatus::kSingular;
-    result->report.message = "table cell next to an unconverged node (singular configuration)";
-  } else {
+    result->report.message = "a prismatic joint left the range the expansion was fitted over";
+  } else if (position <= options_.position_tolerance && orientation <= options_.orientation_tolerance) {
     result->report.status = CompensationStatus::kConverged;
+  } else if (cut) {
+    result->report.status = CompensationStatus::kSingular;
+    result->report.message = "a step was cut to max_step (near a singular configuration)";
+  } else {
+    result->report.status = CompensationStatus::kIterationLimit;
+    result->report.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
   }
 }
 

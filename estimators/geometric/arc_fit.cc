@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "estimators/geometric/plane_fit.h"
+#include "estimators/geometric/stop_angles.h"
 
 namespace kincal::geometric {
 namespace {
@@ -35,6 +36,12 @@ bool ArcFitOptions::IsValid(std::string* why) const {
 
 Eigen::Vector3d ArcFit::PointAtAngle(double phi) const {
   return center + radius * (std::cos(phi) * e1 + std::sin(phi) * e2);
+}
+
+Eigen::Vector3d ArcFit::MarkerAt(int marker, double x) const {
+  const MarkerCircle& c = circles.at(marker);
+  const double phi = c.angle_intercept + angle_slope * x;
+  return c.center + c.radius * (std::cos(phi) * e1 + std::sin(phi) * e2);
 }
 
 ArcFit FitArc(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& x, const ArcFitOptions& options) {
@@ -73,44 +80,20 @@ ArcFit FitArc(const std::vector<Eigen::Vector3d>& points, const std::vector<doub
   fit.e1 = plane.e1;
   fit.e2 = plane.e2;
 
-  // Angles about the (not yet signed) normal, unwrapped in the order of the drive variable.
+  // Angles about the (not yet signed) normal; the sign and the unwrapping come from the drive variable.
   std::vector<double> raw(m);
   for (int k = 0; k < m; ++k) raw[k] = std::atan2(uv[k].y() - circle.center.y(), uv[k].x() - circle.center.x());
-  std::vector<int> order(m);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return x[a] < x[b]; });
-  fit.angles.assign(m, 0.0);
-  fit.angles[order[0]] = raw[order[0]];
-  for (int k = 1; k < m; ++k) {
-    const double previous = fit.angles[order[k - 1]];
-    fit.angles[order[k]] = previous + std::remainder(raw[order[k]] - previous, 2 * M_PI);
-  }
-
-  // Least-squares line phi = intercept + slope * x (noise sits in phi; x comes from encoder counts).
-  double x_mean = 0.0, phi_mean = 0.0;
-  for (int k = 0; k < m; ++k) {
-    x_mean += x[k];
-    phi_mean += fit.angles[k];
-  }
-  x_mean /= m;
-  phi_mean /= m;
-  double sxx = 0.0, sxy = 0.0;
-  for (int k = 0; k < m; ++k) {
-    sxx += (x[k] - x_mean) * (x[k] - x_mean);
-    sxy += (x[k] - x_mean) * (fit.angles[k] - phi_mean);
-  }
-  double slope = sxy / sxx;
-  if (!(slope != 0.0) || !std::isfinite(slope)) throw std::invalid_argument("the marker does not turn about the fitted axis");
-  if (slope < 0.0) {
+  if (SignAndUnwrap({raw}, x, {1.0}, &fit.angles) < 0) {
     // The joint turns clockwise about the SVD's normal: flip the axis (and e2, so e1 x e2 = axis).
     fit.axis = -fit.axis;
     fit.e2 = -fit.e2;
-    for (double& a : fit.angles) a = -a;
-    slope = -slope;
-    phi_mean = -phi_mean;
   }
-  fit.angle_slope = slope;
-  fit.angle_intercept = phi_mean - slope * x_mean;
+  const AngleLine line = FitAngleLine({fit.angles}, x, {1.0});
+  if (!(line.slope > 0.0) || !std::isfinite(line.slope)) {
+    throw std::invalid_argument("the marker does not turn about the fitted axis with the joint's angle");
+  }
+  fit.angle_slope = line.slope;
+  fit.angle_intercept = line.intercepts[0];
   const auto [phi_min, phi_max] = std::minmax_element(fit.angles.begin(), fit.angles.end());
   fit.arc = *phi_max - *phi_min;
 
@@ -129,6 +112,7 @@ ArcFit FitArc(const std::vector<Eigen::Vector3d>& points, const std::vector<doub
   fit.tangential_rms = std::sqrt(tangential2 / m);
   fit.residual_sum_squares = axial2 + radial2 + tangential2;
   fit.degrees_of_freedom = 3 * m - 8;
+  fit.circles = {{fit.center, fit.radius, fit.angle_intercept, fit.angles}};
   return fit;
 }
 

@@ -6,8 +6,10 @@
 // circle's centre is a point of the axis and the plane's normal its direction. The normal is signed by
 // the direction of rotation: the in-plane angle of the stops must grow with the joint's drive variable x
 // (the joint angle the start robot's drives give the encoder counts; see sweeps.h), which is the
-// right-hand rule about the axis. Only the ordering of x is used for the sign; its scale enters only the
-// angle regression phi = intercept + slope * x, whose slope is K_start / K_actual (METHOD.md 3).
+// right-hand rule about the axis. The steps of x between stops (sorted) decide the sign and unwrap the
+// angles (stop_angles.h: wrist sweeps can turn more than pi between stops); beyond that the scale of x
+// enters only the angle regression phi = intercept + slope * x, whose slope is K_start / K_actual
+// (METHOD.md 3).
 //
 // The paper measures each stop's angle from the first stop (METHOD.md 3.1); here every stop's angle is
 // measured from the fixed in-plane direction e1, so that the first stop's noise is not shared by every
@@ -39,6 +41,14 @@ struct ArcFitOptions {
   bool IsValid(std::string* why) const;
 };
 
+// One marker's circle about a joint's axis (several markers on one link share the axis and the slope).
+struct MarkerCircle {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // on the axis, m
+  double radius = 0.0;                               // m
+  double angle_intercept = 0.0;                      // its angle about the axis, from e1, at x = 0
+  std::vector<double> angles;                        // each stop's angle (unwrapped), input order
+};
+
 struct ArcFit {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // circle centre: a point of the axis, m
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // unit; the joint turns positively about it
@@ -55,15 +65,23 @@ struct ArcFit {
   // circle from the angle regression (radius x angle residual), m.
   double axial_rms = 0.0, radial_rms = 0.0, tangential_rms = 0.0;
   double residual_sum_squares = 0.0;                 // of all three components, m^2
-  int degrees_of_freedom = 0;                        // 3 stops - 8 (plane 3, circle 3, regression 2)
+  // 3 stops - 8 (plane 3, circle 3, regression 2); FitAxis, M markers: 3 M stops - 3 M - 5.
+  int degrees_of_freedom = 0;
   int iterations = 0;
   bool converged = true;
 
+  // Every marker's circle (FitArc: one, equal to the fields above; FitAxis: one per marker, and the
+  // fields above are the first marker's).
+  std::vector<MarkerCircle> circles;
+
   double AngleAt(double x) const { return angle_intercept + angle_slope * x; }
   Eigen::Vector3d PointAtAngle(double phi) const;
+  // Marker `marker` (index into circles) where the joint's drive variable is x.
+  Eigen::Vector3d MarkerAt(int marker, double x) const;
 };
 
-// `x`: the joint's drive variable at each stop (any order). Throws std::invalid_argument, without
+// `x`: the joint's drive variable at each stop (any order); it signs the axis and unwraps the angles
+// (stop_angles.h), so stops may be more than pi apart. Throws std::invalid_argument, without
 // context (the caller names the sweep), for fewer than 3 stops, a joint that does not move, coincident
 // or collinear stops.
 ArcFit FitArc(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& x, const ArcFitOptions& options);

@@ -1,12 +1,15 @@
 #include "estimators/geometric/geometric_estimator.h"
 
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
+#include "estimators/geometric/axis_fit.h"
 #include "estimators/geometric/geometric_solver.h"
 #include "estimators/geometric/mdh_conversion.h"
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
+#include "framework/prediction.h"
 
 namespace kincal {
 
@@ -43,6 +46,14 @@ bool GeometricEstimator::Options::IsValid(std::string* why) const {
     if (why) *why = "parallel_threshold must be in [0, 90) deg";
     return false;
   }
+  if (markers_from != "auto" && markers_from != "stops" && markers_from != "arc") {
+    if (why) *why = "markers_from must be auto, stops or arc, got '" + markers_from + "'";
+    return false;
+  }
+  if (joint_angles != "auto" && joint_angles != "arcs" && joint_angles != "readings") {
+    if (why) *why = "joint_angles must be auto, arcs or readings, got '" + joint_angles + "'";
+    return false;
+  }
   return IsValidStddevMethod(stddev, bootstrap_samples, why);
 }
 
@@ -52,6 +63,8 @@ GeometricEstimator::Options GeometricEstimator::Options::FromYaml(const YAML::No
   ReadArcFitOptions(&reader, &o.arc);
   reader.GetAngleDeg("parallel_threshold", &o.parallel_threshold);
   reader.Get("marker", &o.marker);
+  reader.Get("joint_angles", &o.joint_angles);
+  reader.Get("markers_from", &o.markers_from);
   reader.Get("stddev", &o.stddev);
   reader.Get("bootstrap_samples", &o.bootstrap_samples);
   reader.Get("bootstrap_seed", &o.bootstrap_seed);
@@ -70,12 +83,31 @@ std::vector<ArcFit> FitSweeps(const geometric::SweepSet& sweeps, const std::vect
   for (int j : joints) {
     const geometric::Sweep& s = sweeps.sweeps[j - 1];
     try {
-      fits[j - 1] = geometric::FitArc(s.points, s.x, options);
+      fits[j - 1] = geometric::FitAxis(s.marker_points, s.x, options);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(who + ": " + sweeps.Where(j, source) + ": " + e.what());
     }
   }
   return fits;
+}
+
+// Every marker's position in the tool frame that best reproduces all its sweep stops with the identified
+// chain: T_meas_tool(q_r) m = p_r for each of its rows, whose least-squares solution is the mean of
+// T_meas_tool(q_r)^-1 p_r (a rigid transform keeps distances).
+void MarkersFromStops(const Robot& controller, const Dataset& data, const std::vector<std::string>& markers,
+                      Robot* identified) {
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  std::map<std::string, std::pair<Eigen::Vector3d, int>> sums;
+  for (const std::string& id : markers) sums[id] = {Eigen::Vector3d::Zero(), 0};
+  for (size_t r = 0; r < data.rows.size(); ++r) {
+    const Measurement& m = data.rows[r];
+    if (m.sweep <= 0 || !sums.count(m.marker)) continue;
+    const Eigen::VectorXd q = ActualJointAngles(controller, *identified, data, r, previous);
+    auto& [sum, count] = sums[m.marker];
+    sum += PredictToolPose(*identified, q, m.session).inverse() * m.p;
+    ++count;
+  }
+  for (const auto& [id, sum_count] : sums) identified->markers[id] = sum_count.first / sum_count.second;
 }
 
 }  // namespace
@@ -96,7 +128,9 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     report->warnings.push_back("the start robot is " + start.model().convention() +
                                "; it was converted exactly to modified DH, which the identified robot uses");
   }
-  const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric");
+  const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric",
+                                                                     /*several_markers=*/true);
+  const bool several = sweeps.markers.size() > 1;
   std::vector<int> joints;
   for (int j = 1; j <= n; ++j) {
     if (!sweeps.Swept(j)) {
@@ -107,13 +141,20 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     joints.push_back(j);
   }
   const std::vector<ArcFit> fits = FitSweeps(sweeps, joints, options_.arc, "geometric", data.source);
-  const geometric::GeometricProblem problem =
-      geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
+  geometric::GeometricProblem problem = geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
+  problem.angles_from_readings =
+      options_.joint_angles == "readings" || (options_.joint_angles == "auto" && !start.drives.has_value());
+  const bool markers_from_stops =
+      several && (options_.markers_from == "stops" || (options_.markers_from == "auto" && problem.angles_from_readings));
   const geometric::GeometricSolution solution = geometric::SolveGeometry(problem, fits);
 
   *identified = mdh_start;
   KinematicModel& model = identified->model();
   model.SetParameters(solution.parameters);
+  if (several) {
+    for (size_t m = 0; m < sweeps.markers.size(); ++m) identified->markers[sweeps.markers[m]] = solution.p_tool_markers[m];
+    if (markers_from_stops) MarkersFromStops(controller, data, sweeps.markers, identified);
+  }
   if (sweeps.session != 0) {
     // The sweeps were measured in another session's frame: the base found is that session's.
     identified->session_bases[sweeps.session] = solution.T_meas_base;
@@ -146,6 +187,9 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
       return "held at the start value: redundant with the base";
     }
     if (name == "d_" + last || name == "theta_" + last) return "held at the start value: redundant with the tool";
+    if (several && (name == "tool_x" || name == "tool_y" || name == "tool_z")) {
+      return "held at the start value: the markers' positions (details) are identified instead";
+    }
     if (name == "tool_roll" || name == "tool_pitch" || name == "tool_yaw") {
       return "held at the start value: a marker position does not show the tool's orientation";
     }
@@ -177,7 +221,12 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     report->iterations += f.iterations;
     nlohmann::json turned = nlohmann::json::array();
     for (const auto& [i, dx] : sweeps.sweeps[j - 1].moved) {
-      turned.push_back({{"joint", i + 1}, {"angle_rad", fits[i].angle_slope * dx}});
+      turned.push_back({{"joint", i + 1}, {"angle_rad", (problem.angles_from_readings ? 1.0 : fits[i].angle_slope) * dx}});
+    }
+    nlohmann::json circles = nlohmann::json::array();
+    for (size_t m = 0; m < f.circles.size() && several; ++m) {
+      circles.push_back({{"marker", sweeps.markers[m]}, {"center_m", Vec(f.circles[m].center)},
+                         {"radius_m", f.circles[m].radius}});
     }
     axes.push_back({{"joint", j},
                     {"point_m", Vec(solution.axes[j - 1].point)},
@@ -192,6 +241,7 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
                     {"circle_fit_iterations", f.iterations},
                     {"circle_fit_converged", f.converged},
                     {"turned_back_about", turned}});
+    if (several) axes.back()["marker_circles"] = circles;
     if (!f.converged) {
       report->warnings.push_back("the circle fit of joint " + std::to_string(j) + " stopped at its iteration limit");
     }
@@ -219,6 +269,9 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
       {"parallel_threshold_deg", options_.parallel_threshold * kDeg},
       {"sweep_order", order},
       {"marker", sweeps.marker},
+      {"markers", sweeps.markers},
+      {"joint_angles", problem.angles_from_readings ? "readings" : "arcs"},
+      {"markers_from", markers_from_stops ? "stops" : "arc"},
       {"session", sweeps.session},
       {"calibration_configuration_rad", std::vector<double>(sweeps.q_cal.data(), sweeps.q_cal.data() + n)},
       {"calibration_joint_angles_rad", std::vector<double>(solution.q_cal.data(), solution.q_cal.data() + n)},
@@ -232,13 +285,24 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
                   {"degrees_of_freedom", u.degrees_of_freedom},
                   {"replicates", u.replicates},
                   {"note", u.note}}}};
+  if (several) {
+    nlohmann::json positions = nlohmann::json::object();
+    nlohmann::json from_arc = nlohmann::json::object();
+    for (size_t m = 0; m < sweeps.markers.size(); ++m) {
+      positions[sweeps.markers[m]] = Vec(identified->markers.at(sweeps.markers[m]));
+      from_arc[sweeps.markers[m]] = Vec(solution.p_tool_markers[m]);
+    }
+    report->details["markers_in_tool_m"] = positions;
+    report->details["markers_in_tool_from_last_arc_m"] = from_arc;
+  }
   if (sweeps.session != 0) {
     const Eigen::Isometry3d& T = solution.T_meas_base;
     report->details["session_base"] = {{"session", sweeps.session}, {"xyz_m", Vec(T.translation())},
                                        {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
   }
   report->status = all_converged ? EstimationStatus::kConverged : EstimationStatus::kIterationLimit;
-  report->message = "axes of " + std::to_string(n) + " sweeps (" + geometric::ToString(options_.arc.circle_fit) +
+  report->message = "axes of " + std::to_string(n) + " sweeps" +
+                    (several ? " of " + std::to_string(sweeps.markers.size()) + " markers jointly" : std::string()) + " (" + geometric::ToString(options_.arc.circle_fit) +
                     " circle fit), frames by common normals";
 }
 

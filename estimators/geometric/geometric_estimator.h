@@ -8,7 +8,7 @@
 // calibration configuration and the order of sweeps). The start robot may be MDH or DH (converted
 // exactly, mdh_conversion.h); revolute joints only.
 // Output: a complete MDH robot: table, base = T_meas_frame0, tool = the marker's position in the last
-// frame; drives unchanged (the ratio_regression stage identifies them). The report lists the fitted axes
+// frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the ratio_regression stage identifies them). The report lists the fitted axes
 // (point, direction), each fit's residual RMS, every parameter with a standard deviation
 // (uncertainty.h), the parallel pairs met (each also a warning) and the parameters held because they are
 // redundant with the base or the tool. The start robot's free mask is not used: the construction
@@ -33,9 +33,31 @@ class GeometricEstimator final : public Estimator {
     // warning. File: degrees. Default 1 deg: far above the direction noise of a tracker-measured 40 deg
     // arc (about 0.01 deg), far below any intended angle between consecutive axes.
     double parallel_threshold = 1.0 * M_PI / 180.0;
-    // Marker whose sweeps to use when the rows record several (the dataset's `marker` column); "" takes
-    // the only one.
+    // Marker whose sweeps to use when the rows record several (the dataset's `marker` column); "" (the
+    // default) fits every marker together: one axis per joint for all of them (axis_fit.h), and the
+    // identified robot's markers from the fit (its tool transform then stays the start robot's).
     std::string marker;
+    // Several markers: where their positions in the tool frame come from. "stops": the position that
+    // best reproduces every sweep stop of the marker with the identified chain (linear least squares,
+    // the mean of T_meas_tool(q)^-1 p over its stops); every sweep measured the markers, and on the
+    // FANUC data this takes the held-out RMS from 0.54 to 0.48 mm. It needs a chain that reproduces the
+    // stops, so joint angles from the readings (below). "arc": the classic construction, each marker on
+    // the last joint's arc at the calibration configuration, right whatever the ratios. "auto"
+    // (default): "stops" when the joint angles are the readings, else "arc". One marker: always the arc
+    // (the tool's translation carries it).
+    std::string markers_from = "auto";
+    // The joint angles the geometry is built with, where joints were away from zero: the calibration
+    // configuration's angles, and how far proximal joints had turned when an axis was measured
+    // (geometric_solver.h). "arcs": measured on each joint's arc (angle slope x drive variable), exact
+    // for drives whose ratios are wrong, which ratio_regression then identifies (the seed's pipeline).
+    // "readings": the drive variables themselves, for a robot that keeps them (no drives to correct): a
+    // scale measured on a short arc then only adds its noise, and on a real arm the readings' scale
+    // error is non-geometric (FANUC data: the arcs' slopes differ from 1 by up to 1.4e-4, which over
+    // the 56 deg joint 1 turns between its sweep and the others is 0.3 mm at the reflectors; held-out
+    // RMS, markers from the last arc: 0.58 mm with "arcs", 0.54 mm with "readings"; markers from the
+    // stops: 0.51 and 0.48 mm). "auto" (default): "arcs" when the start robot has drives, else
+    // "readings".
+    std::string joint_angles = "auto";
     // Standard deviations: "propagation" (default; validated against Monte Carlo spreads), "bootstrap"
     // (over the stops) or "none" (uncertainty.h).
     std::string stddev = "propagation";
@@ -44,7 +66,8 @@ class GeometricEstimator final : public Estimator {
 
     bool IsValid(std::string* why) const;
     // Keys: circle_fit, min_spread (length: 1um, 0.001mm, plain metres), min_curvature_ratio,
-    // max_iterations, parallel_threshold (deg), marker, stddev, bootstrap_samples, bootstrap_seed.
+    // max_iterations, parallel_threshold (deg), marker, markers_from, joint_angles, stddev, bootstrap_samples,
+    // bootstrap_seed.
     static Options FromYaml(const YAML::Node& node);
   };
 

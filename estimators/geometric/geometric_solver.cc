@@ -16,6 +16,11 @@ Eigen::Isometry3d TurnAbout(const AxisLine& axis, double angle) {
   return T;
 }
 
+// Actual angle per unit of joint i's drive variable.
+double Slope(const GeometricProblem& problem, const std::vector<ArcFit>& fits, int i) {
+  return problem.angles_from_readings ? 1.0 : fits[i].angle_slope;
+}
+
 std::string Row(const char* key, int i) { return std::string(key) + "_" + std::to_string(i); }
 
 }  // namespace
@@ -35,6 +40,7 @@ GeometricProblem GeometricProblem::Make(const Robot& mdh_start, const SweepSet& 
   }
   p.x1_hint = model.FramePoses(sweeps.x_cal)[1].linear().col(0);
   p.p_tool_marker = mdh_start.MarkerPosition(sweeps.marker);
+  p.markers = static_cast<int>(sweeps.markers.size());
   return p;
 }
 
@@ -49,21 +55,24 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
     AxisLine axis{fit.center, fit.axis};
     Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
     for (const auto& [i, displacement] : problem.moved[j - 1]) {
-      moved = moved * TurnAbout(sol.axes[i], fits[i].angle_slope * displacement);
+      moved = moved * TurnAbout(sol.axes[i], Slope(problem, fits, i) * displacement);
     }
     const Eigen::Isometry3d back = moved.inverse();
     axis.point = back * axis.point;
     axis.direction = back.linear() * axis.direction;
     sol.axes.push_back(axis);
     if (j == n) {
-      // The marker with joint n at its calibration angle, measured on joint n's arc.
-      sol.p_meas_marker = back * fit.PointAtAngle(fit.AngleAt(problem.x_cal[n - 1]));
+      // The markers with joint n at its calibration angle, measured on joint n's arcs.
+      for (int m = 0; m < static_cast<int>(fit.circles.size()); ++m) {
+        sol.p_meas_markers.push_back(back * fit.MarkerAt(m, problem.x_cal[n - 1]));
+      }
+      sol.p_meas_marker = sol.p_meas_markers.at(0);
     }
   }
 
   // The actual joint angles of the calibration configuration, measured on each joint's arc.
   sol.q_cal.resize(n);
-  for (int i = 0; i < n; ++i) sol.q_cal[i] = fits[i].angle_slope * problem.x_cal[i];
+  for (int i = 0; i < n; ++i) sol.q_cal[i] = Slope(problem, fits, i) * problem.x_cal[i];
   sol.frames = FramesFromAxes(sol.axes, problem.nominal, sol.q_cal, problem.x1_hint, problem.parallel_threshold);
   const std::vector<Eigen::Isometry3d>& F = sol.frames.frames;
 
@@ -94,7 +103,13 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
   // exactly at the calibration configuration), keeping the start robot's tool orientation.
   const Eigen::Isometry3d T_meas_n = model->FramePoses(sol.q_cal)[n];
   Eigen::Isometry3d T_n_tool = model->tool();
-  T_n_tool.translation() = T_meas_n.inverse() * sol.p_meas_marker - T_n_tool.linear() * problem.p_tool_marker;
+  if (problem.markers > 1) {
+    // The markers' positions in the start tool frame, each reproduced exactly at the calibration configuration.
+    const Eigen::Isometry3d T_tool_meas = (T_meas_n * T_n_tool).inverse();
+    for (const Eigen::Vector3d& p : sol.p_meas_markers) sol.p_tool_markers.push_back(T_tool_meas * p);
+  } else {
+    T_n_tool.translation() = T_meas_n.inverse() * sol.p_meas_marker - T_n_tool.linear() * problem.p_tool_marker;
+  }
   model->SetTool(T_n_tool);
   sol.parameters = model->Parameters();
   return sol;

@@ -17,6 +17,8 @@
 // whatever the ratios, and ratio_regression need not touch it. (The geometric stage's robot keeps the
 // start ratios, so it is exact at zero counts and errs by (1 - K_start / K_actual) q elsewhere, until
 // ratio_regression follows. For the seed's protocol q_cal is zero counts and the question does not arise.)
+// A robot without drives keeps its readings as its angles, and then the readings are used here too
+// (angles_from_readings; GeometricEstimator::Options::joint_angles explains why).
 //
 // Redundant parameters, held at the start robot's values: row 1 (alpha_1, a_1, theta_1, d_1), which the
 // base absorbs, and d_n, theta_n, which the tool absorbs (the marker's position is all that is
@@ -40,7 +42,11 @@ struct GeometricProblem {
   std::vector<std::vector<std::pair<int, double>>> moved;  // per joint: Sweep::moved
   std::vector<MdhRow> nominal;       // the start robot's MDH rows
   Eigen::Vector3d x1_hint = Eigen::Vector3d::UnitX();  // the start model's x_1 at the calibration configuration
-  Eigen::Vector3d p_tool_marker = Eigen::Vector3d::Zero();  // marker in the tool frame (start robot)
+  Eigen::Vector3d p_tool_marker = Eigen::Vector3d::Zero();  // the (first) marker in the tool frame (start robot)
+  int markers = 1;                   // markers fitted together (SweepSet::markers)
+  // The drive variables are the joint angles (GeometricEstimator::Options::joint_angles "readings"):
+  // q_cal and the turns back use them instead of angle_slope x drive variable.
+  bool angles_from_readings = false;
   double parallel_threshold = 1.0 * M_PI / 180.0;
 
   // Everything above from the sweeps and the start robot (which must be MDH).
@@ -52,9 +58,13 @@ struct GeometricSolution {
   AxisFrames frames;                 // T_meas_frame_i at the calibration configuration
   std::vector<MdhRow> rows;          // identified table
   Eigen::Isometry3d T_meas_base = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d p_meas_marker = Eigen::Vector3d::Zero();  // marker at the calibration configuration
+  Eigen::Vector3d p_meas_marker = Eigen::Vector3d::Zero();  // (first) marker at the calibration configuration
+  std::vector<Eigen::Vector3d> p_meas_markers;  // every marker there (SweepSet::markers order)
+  // Several markers: each marker in the tool frame (the tool keeps the start robot's transform, which the
+  // markers make redundant). One marker: empty; the tool's translation carries it, as below.
   Eigen::VectorXd q_cal;             // actual joint angles there, measured on the arcs
   Eigen::VectorXd parameters;        // the MDH model's parameter vector (ParameterNames() order)
+  std::vector<Eigen::Vector3d> p_tool_markers;
 };
 
 // `fits`: one per joint, index joint - 1 (every joint swept).

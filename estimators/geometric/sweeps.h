@@ -25,7 +25,9 @@ namespace kincal::geometric {
 
 struct Sweep {
   int joint = 0;                         // 1-based
-  std::vector<Eigen::Vector3d> points;   // measured marker positions, m
+  std::vector<Eigen::Vector3d> points;   // measured marker positions, m (the first marker's)
+  // Every marker's positions at the same stops, in SweepSet::markers order (marker_points[0] == points).
+  std::vector<std::vector<Eigen::Vector3d>> marker_points;
   std::vector<double> x;                 // the swept joint's drive variable at each stop, rad
   // Joints proximal to this one that were away from the calibration configuration during the sweep:
   // (0-based joint, drive-variable displacement from the calibration configuration).
@@ -41,7 +43,8 @@ struct SweepSet {
   Eigen::VectorXd q_cal;                 // commanded calibration configuration
   Eigen::VectorXd x_cal;                 // its drive variables (the start robot's joint angles there)
   int cal_row = 0;                       // row index of the calibration configuration
-  std::string marker;                    // marker id used ("" = the tool origin)
+  std::string marker;                    // marker id used ("" = the tool origin); the first of `markers`
+  std::vector<std::string> markers;      // every marker used (several: see ExtractSweeps)
   int session = 0;
   int free_rows = 0;                     // rows with sweep 0 (not used)
 
@@ -50,10 +53,19 @@ struct SweepSet {
   std::string Where(int joint, const std::string& source) const;
 };
 
+// Held joints are judged on the readings through the start robot's coupling (a FANUC J2 sweep moves
+// the J3 reading with it and holds the physical joint 3).
+//
+// Several markers: with `marker` empty and `several_markers`, every marker the sweep rows record is used
+// (in order of first appearance); a sweep's k-th row of each marker is its k-th stop, so every marker
+// must be measured at every stop, with the same joint values. Otherwise one marker is used: `marker`, or
+// the only one.
+//
 // Throws std::invalid_argument naming the rows for: no sweep rows, a sweep in which another joint moves,
-// several markers without `marker` chosen, an unknown marker, several sessions. `who` prefixes messages.
-// Joints never swept are left out (Swept() false); the caller decides whether that is an error.
+// several markers without `marker` chosen (unless several_markers), an unknown marker, several sessions,
+// a stop some marker misses. `who` prefixes messages. Joints never swept are left out (Swept() false);
+// the caller decides whether that is an error.
 SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Dataset& data, const std::string& marker,
-                       const std::string& who);
+                       const std::string& who, bool several_markers = false);
 
 }  // namespace kincal::geometric

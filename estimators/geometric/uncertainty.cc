@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "estimators/geometric/axis_fit.h"
 #include "framework/math.h"
 #include "framework/random.h"
 
@@ -44,18 +45,20 @@ Uncertainty PropagateStopNoise(const SweepSet& sweeps, const std::vector<int>& j
   std::vector<ArcFit> perturbed = fits;
   for (int j : joints) {
     const Sweep& s = sweeps.sweeps[j - 1];
-    std::vector<Eigen::Vector3d> points = s.points;
-    for (size_t k = 0; k < points.size(); ++k) {
-      for (int c = 0; c < 3; ++c) {
-        const double original = points[k][c];
-        points[k][c] = original + kStep;
-        perturbed[j - 1] = FitArc(points, s.x, options);
-        const Eigen::VectorXd plus = solve(perturbed);
-        points[k][c] = original - kStep;
-        perturbed[j - 1] = FitArc(points, s.x, options);
-        const Eigen::VectorXd minus = solve(perturbed);
-        points[k][c] = original;
-        variance += (Difference(plus, minus, is_angle) / (2 * kStep)).cwiseAbs2();
+    std::vector<std::vector<Eigen::Vector3d>> points = s.marker_points;
+    for (auto& marker : points) {
+      for (size_t k = 0; k < marker.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+          const double original = marker[k][c];
+          marker[k][c] = original + kStep;
+          perturbed[j - 1] = FitAxis(points, s.x, options);
+          const Eigen::VectorXd plus = solve(perturbed);
+          marker[k][c] = original - kStep;
+          perturbed[j - 1] = FitAxis(points, s.x, options);
+          const Eigen::VectorXd minus = solve(perturbed);
+          marker[k][c] = original;
+          variance += (Difference(plus, minus, is_angle) / (2 * kStep)).cwiseAbs2();
+        }
       }
     }
     perturbed[j - 1] = fits[j - 1];
@@ -77,16 +80,17 @@ Uncertainty BootstrapStops(const SweepSet& sweeps, const std::vector<int>& joint
     bool ok = true;
     for (int j : joints) {
       const Sweep& s = sweeps.sweeps[j - 1];
-      const int m = static_cast<int>(s.points.size());
-      std::vector<Eigen::Vector3d> points(m);
+      const int m = static_cast<int>(s.x.size());
+      // A stop is resampled with every marker measured at it.
+      std::vector<std::vector<Eigen::Vector3d>> points(s.marker_points.size(), std::vector<Eigen::Vector3d>(m));
       std::vector<double> x(m);
       for (int k = 0; k < m; ++k) {
         const int pick = static_cast<int>(rng.NextU64() % static_cast<uint64_t>(m));
-        points[k] = s.points[pick];
+        for (size_t i = 0; i < points.size(); ++i) points[i][k] = s.marker_points[i][pick];
         x[k] = s.x[pick];
       }
       try {
-        replicate[j - 1] = FitArc(points, x, options);
+        replicate[j - 1] = FitAxis(points, x, options);
       } catch (const std::invalid_argument&) {
         ok = false;  // e.g. all picks at one stop: this replicate cannot be fitted
         break;

@@ -8,6 +8,7 @@
 
 #include "framework/error.h"
 #include "framework/math.h"
+#include "framework/pose_tables.h"
 #include "framework/prediction.h"
 #include "framework/random.h"
 
@@ -35,11 +36,30 @@ Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const Comp
   return ActualFromReadings(nominal, truth, r.q_command, previous_command, truth.drives ? r.encoders : std::vector<int64_t>{});
 }
 
+// The baseline on measured data: the nominal geometry placed in the instrument's frame, only the base and
+// the tool or markers fitted to the training rows. The nominal robot as its file gives it sits in its own
+// base frame, metres away from the tracker's (2568 mm on the IRB 120 of ../shared/data): no reference.
+YAML::Node PlacementOptions(const Robot& nominal) {
+  YAML::Node options;
+  for (int j = 1; j <= nominal.dof(); ++j) options["fixed"].push_back("joint_" + std::to_string(j));
+  if (!nominal.joint_errors.terms.empty()) options["fixed"].push_back("joint_errors");
+  options["identify_ratios"] = false;
+  return options;
+}
+
+// An estimator that stopped with parameters on their bounds found the minimum of a smaller model than
+// the one asked for: its status says so rather than "converged".
+int ParametersAtBounds(const EstimationReport& r) {
+  const auto it = r.details.find("parameters_at_bounds");
+  return it != r.details.end() && it->is_number_integer() ? it->get<int>() : 0;
+}
+
 std::string WorstStatus(const std::vector<EstimationReport>& reports) {
   std::string status = "converged";
   for (const auto& r : reports) {
     if (r.status == EstimationStatus::kFailed) return "failed";
     if (r.status == EstimationStatus::kIterationLimit) status = "iteration_limit";
+    if (status == "converged" && ParametersAtBounds(r) > 0) status = "at_bounds";
   }
   return status;
 }
@@ -140,6 +160,30 @@ std::string CurrentExceptionText() {
   }
 }
 
+std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& test, const PredictionErrors& e) {
+  std::vector<HeldoutPoint> out;
+  const Eigen::Isometry3d T_base_meas = identified.model().base().inverse();
+  const std::vector<Dataset::Previous> previous = test.PreviousPoses();
+  const Eigen::VectorXd& v = identified.velocity_limits;
+  for (size_t i = 0; i < test.rows.size() && i < e.position.size(); ++i) {
+    const Measurement& m = test.rows[i];
+    HeldoutPoint h;
+    h.row = static_cast<int>(i);
+    h.marker = m.marker;
+    h.reach = (T_base_meas * m.p).head<2>().norm();
+    h.error = e.position[i];
+    const Eigen::VectorXd* from = test.PreviousQ(previous[i]);
+    if (from && v.size() == m.q.size()) {
+      // The move's duration when all joints arrive together at the slowest joint's pace (issue 11).
+      const Eigen::ArrayXd dq = (m.q - *from).array().abs();
+      const double duration = (dq / v.array()).maxCoeff();
+      if (duration > 0.0) h.approach_speed = dq.maxCoeff() / duration;
+    }
+    out.push_back(h);
+  }
+  return out;
+}
+
 }  // namespace
 
 ErrorSummary SummarizeErrors(std::vector<double> errors) {
@@ -177,7 +221,16 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
     PreparedDataset d;
     d.nominal = study_.nominal.robot;
     if (!spec.simulated) {
-      d.measured = ReadDataset(spec.file);
+      if (spec.tables) {
+        PoseTables tables;
+        tables.joints = spec.file;
+        tables.positions = spec.position_tables;
+        tables.length_unit = spec.table_length_unit;
+        tables.angle_unit = spec.table_angle_unit;
+        d.measured = ReadPoseTables(tables, d.nominal.dof());
+      } else {
+        d.measured = ReadDataset(spec.file);
+      }
       d.measured.Validate(d.nominal.dof());
       if (spec.split == DatasetSpec::Split::kColumn && d.measured.Subset(Split::kTest).rows.empty()) {
         ThrowInputError(spec.file, 0, 0, "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
@@ -197,7 +250,8 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       const bool orientation = v.orientation && d.nominal.dof() >= 6;
       d.orientation.push_back(orientation);
       if (v.kind == ValidationSpec::Kind::kRandom) {
-        d.targets.push_back(RandomTargets(d.nominal, v.count, v.joint_limits, ValidationSeed(study_, v)));
+        d.targets.push_back(
+            ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation, ValidationSeed(study_, v)));
       } else {
         try {
           d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
@@ -225,23 +279,30 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
     *test = all.Subset(Split::kTest);
     return all.Subset(Split::kTrain);
   }
-  const size_t n = all.rows.size();
-  std::vector<bool> is_test(n, false);
+  // Splits go by pose: the rows of one pose (one per marker, consecutive, same joints) stay together.
+  std::vector<size_t> pose_of(all.rows.size());
+  size_t poses = 0;
+  for (size_t i = 0; i < all.rows.size(); ++i) {
+    if (i > 0 && all.rows[i].q != all.rows[i - 1].q) ++poses;
+    pose_of[i] = poses;
+  }
+  if (!all.rows.empty()) ++poses;
+  std::vector<bool> is_test(poses, false);
   if (spec.split == DatasetSpec::Split::kEvery) {
-    for (size_t i = 0; i < n; ++i) is_test[i] = (i + 1) % spec.every == 0;
+    for (size_t i = 0; i < poses; ++i) is_test[i] = (i + 1) % spec.every == 0;
   } else {
-    std::vector<size_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::vector<size_t> order(poses);
+    for (size_t i = 0; i < poses; ++i) order[i] = i;
     Rng rng(seed);
-    for (size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.NextU64() % i]);
-    const size_t count = static_cast<size_t>(std::llround(spec.test_fraction * n));
+    for (size_t i = poses; i > 1; --i) std::swap(order[i - 1], order[rng.NextU64() % i]);
+    const size_t count = static_cast<size_t>(std::llround(spec.test_fraction * poses));
     for (size_t i = 0; i < count; ++i) is_test[order[i]] = true;
   }
-  Dataset train = all;
-  train.rows.clear();
-  *test = train;
-  for (size_t i = 0; i < n; ++i) (is_test[i] ? test : &train)->rows.push_back(all.rows[i]);
-  return train;
+  // SelectRows keeps each row's previous pose from the whole sequence (joint errors of the move need it).
+  std::vector<int> train_rows, test_rows;
+  for (size_t i = 0; i < all.rows.size(); ++i) (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
+  *test = all.SelectRows(test_rows);
+  return all.SelectRows(train_rows);
 }
 
 // Issue 10: a method that throws (anything) or returns non-finite numbers fails its work item (or, for a
@@ -274,7 +335,9 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     double seconds = 0.0;
     for (size_t i = 0; i < pipeline.methods.size(); ++i) {
       method = pipeline.methods[i];
-      const auto estimator = registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
+      const bool placement = !spec.simulated && pipeline.methods[i] == "none";
+      const auto estimator = placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
+                                       : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
       Robot next;
       reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
       seconds += reports.back().wall_time_seconds;
@@ -286,9 +349,11 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     result.identify_seconds = seconds;
     result.estimation_status = WorstStatus(reports);
     for (const auto& r : reports) {
-      if (r.status != EstimationStatus::kConverged && !r.message.empty()) {
-        result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + r.message;
+      std::string why = r.status != EstimationStatus::kConverged ? r.message : "";
+      if (ParametersAtBounds(r) > 0) {
+        why += (why.empty() ? "" : ", ") + std::to_string(ParametersAtBounds(r)) + " parameter(s) on their bounds";
       }
+      if (!why.empty()) result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
     }
   } catch (...) {
     result.estimation_status = "error";
@@ -315,6 +380,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
       row.targets = row.converged = static_cast<int>(test.rows.size());
       row.position = SummarizeErrors(e.position);
       row.orientation = SummarizeErrors(e.orientation);
+      result.heldout = HeldoutPoints(identified, test, e);
     }
     result.rows.push_back(row);
     return result;

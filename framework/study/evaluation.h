@@ -7,6 +7,8 @@
 // turns by what those counts mean with its real ratios. "Before" is the nominal solution commanded as is
 // (estimator none, compensator none); "after" is what a compensator commands for the identified robot.
 // Errors are between the target and the truth's attained tool pose: exact, no measurement noise.
+// On measured data "before" (estimator none) is the nominal geometry with only the base and the tool or
+// markers fitted to the training rows: the nominal robot unregistered would be metres off.
 // Besides the compensators, compensator "-" scores the identified robot alone: its prediction error, at the
 // targets' commanded joints, of where the true arm goes. Measured datasets have no truth to command: their
 // only score is that prediction on the held-out test rows (compensator "-", validation "heldout").
@@ -49,8 +51,9 @@ struct EvaluationRow {
   int converged = 0;  // compensations that reported convergence
   ErrorSummary position;
   ErrorSummary orientation;
-  std::string status;  // ok, estimate_iteration_limit, estimate_failed, compensation_partial, or failed: no
-                       // scores, the estimator or compensator threw or returned non-finite numbers (note: why)
+  std::string status;  // ok, estimate_iteration_limit, estimate_failed, estimate_at_bounds, compensation_partial,
+                       // or failed: no scores, the estimator or compensator threw or returned non-finite numbers
+                       // (note: why)
   std::string note;
   double compensate_seconds_per_target = NAN;
   std::vector<ConvergencePoint> convergence;  // the study's first random validation set only
@@ -64,6 +67,17 @@ struct ParameterRow {
   double nominal = NAN, estimate = NAN, stddev = NAN, truth = NAN;
 };
 
+// One held-out row of measured data, for the report's error against reach and against approach speed.
+struct HeldoutPoint {
+  int row = 0;                  // index among the test rows, in measurement order
+  std::string marker;
+  double reach = NAN;           // m: the measured point's distance from the axis of joint 1 (base frame z)
+  double approach_speed = NAN;  // rad/s: the fastest joint's speed on its way to the pose when every joint
+                                // moves at the slowest joint's pace (velocity limits); NaN without limits
+                                // or without a previous pose
+  double error = NAN;           // m: position error of the identified robot's prediction
+};
+
 struct ItemResult {
   WorkItem item;
   std::string estimation_status;  // converged, iteration_limit, failed, error
@@ -71,6 +85,7 @@ struct ItemResult {
   double identify_seconds = NAN;
   std::vector<EvaluationRow> rows;
   std::vector<ParameterRow> parameters;
+  std::vector<HeldoutPoint> heldout;  // measured data only
 };
 
 class StudyEvaluator {

@@ -109,8 +109,10 @@ void WhatWasRun(std::ostream& o, const ReportData& data) {
        "is the identified robot's own prediction error of where the arm goes, with no compensation (it scores the "
        "estimator alone). Errors are exact distances between the target and the true arm's tool pose. Each trial "
        "gives a mean, RMS and maximum over the targets; the tables show their mean ± standard deviation over the "
-       "trials. Measured datasets are scored by prediction on their held-out test rows. Pairs with `none` on one "
-       "side only reproduce **before** and are in results.csv.\n\n";
+       "trials. Measured datasets are scored by prediction on their held-out test rows; there **before** is the "
+       "nominal geometry with only the base and the tool or markers fitted to the training rows. Pairs with `none` "
+       "on one side only reproduce **before** and are in results.csv. A status other than `ok` says what went "
+       "wrong: `estimate_at_bounds` means the estimator ended with parameters on their bounds.\n\n";
 }
 
 void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std::string& validation) {
@@ -318,6 +320,13 @@ void WriteReport(const std::string& dir) {
       ErrorTable(o, data, v, validation);
       if (!data.IsIso(validation)) Figure(o, PlotErrorDistributions(data, v, validation), "error distributions, " + var.label + ", " + validation);
     }
+    if (!var.simulated) {
+      const std::string heldout = PlotHeldoutAgainst(data, v);
+      if (!heldout.empty()) {
+        o << "### Held-out error against reach and approach speed\n\n";
+        Figure(o, heldout, "held-out error against reach and approach speed, " + var.label);
+      }
+    }
     o << "### Parameters\n\n";
     ParameterTable(o, data, v);
     Figure(o, PlotParameterErrors(data, v), "parameter errors, " + var.label);
@@ -344,6 +353,7 @@ void WriteReport(const std::string& dir) {
        "(mean, RMS, max, 5/25/50/75/95 % quantiles), status\n"
        "- `parameters.csv`: every identified parameter with its nominal, estimate, reported standard deviation, "
        "truth and error\n"
+       "- `heldout.csv` (measured data): every held-out row's error with its reach and approach speed\n"
        "- `convergence.csv`, `iso9283.csv`, `timings.csv`; `study.json`: what was run\n";
   WriteFileAtomically(dir + "/report.md", o.str());
 }

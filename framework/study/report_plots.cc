@@ -282,4 +282,72 @@ std::string PlotSensitivity(const ReportData& data, const std::string& dataset, 
   return Write(data, "sensitivity_" + Slug(dataset) + "_" + Slug(validation), figure);
 }
 
+std::string PlotHeldoutAgainst(const ReportData& data, int variant) {
+  const ResultTable& t = data.tables().heldout;
+  const int estimator_col = t.Column("estimator"), error_col = t.Column("error_mm");
+  if (t.rows.empty() || estimator_col < 0 || error_col < 0) return "";
+  struct Quantity {
+    const char* column;
+    const char* title;
+    const char* label;
+  };
+  const Quantity quantities[2] = {
+      {"reach_mm", "Held-out RMS error against reach", "horizontal distance from axis 1 (mm)"},
+      {"approach_speed_deg_s", "Held-out RMS error against approach speed",
+       "fastest joint's speed on the way to the pose (deg/s)"}};
+  std::vector<size_t> rows;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    if (data.VariantOf(t, r) == variant) rows.push_back(r);
+  }
+  if (rows.empty()) return "";
+  svg::Figure figure;
+  figure.title = "Held-out error: " + data.variants()[variant].label;
+  constexpr int kBins = 8;
+  for (const Quantity& q : quantities) {
+    const int x_col = t.Column(q.column);
+    if (x_col < 0) continue;
+    // Bin edges at quantiles of the x values, so that every bin holds about as many rows.
+    std::vector<double> xs;
+    for (size_t r : rows) {
+      if (std::isfinite(t.Number(r, x_col))) xs.push_back(t.Number(r, x_col));
+    }
+    if (xs.size() < 2 * kBins) continue;
+    std::sort(xs.begin(), xs.end());
+    std::vector<double> edges;
+    for (int b = 0; b <= kBins; ++b) edges.push_back(xs[std::min(xs.size() - 1, b * (xs.size() - 1) / kBins)]);
+    svg::Axes axes;
+    axes.title = q.title;
+    axes.x_label = q.label;
+    axes.y_label = "held-out RMS position error (mm)";
+    axes.note = "RMS over the test rows of each bin (bins hold equal numbers of rows), all trials pooled";
+    for (const std::string& estimator : data.Estimators()) {
+      std::vector<double> sum2(kBins, 0.0), sum_x(kBins, 0.0);
+      std::vector<int> count(kBins, 0);
+      for (size_t r : rows) {
+        if (t.Text(r, estimator_col) != estimator) continue;
+        const double x = t.Number(r, x_col), e = t.Number(r, error_col);
+        if (!std::isfinite(x) || !std::isfinite(e)) continue;
+        const int b = std::min<int>(kBins - 1, static_cast<int>(std::upper_bound(edges.begin() + 1, edges.end() - 1, x) -
+                                                                (edges.begin() + 1)));
+        sum2[b] += e * e;
+        sum_x[b] += x;
+        ++count[b];
+      }
+      svg::Series s;
+      s.label = estimator == "none" ? "before" : estimator;
+      s.muted = estimator == "none";
+      s.style = EstimatorStyle(data, estimator);
+      for (int b = 0; b < kBins; ++b) {
+        if (count[b] == 0) continue;
+        s.x.push_back(sum_x[b] / count[b]);
+        s.y.push_back(std::sqrt(sum2[b] / count[b]));
+      }
+      if (!s.x.empty()) axes.series.push_back(s);
+    }
+    if (!axes.series.empty()) figure.panels.push_back(axes);
+  }
+  if (figure.panels.empty()) return "";
+  return Write(data, "heldout_" + Slug(data.variants()[variant].label), figure);
+}
+
 }  // namespace kincal

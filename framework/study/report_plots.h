@@ -29,6 +29,11 @@ std::string PlotConvergence(const ReportData& data, int variant);
 // Error against the swept knob of a dataset (its variants).
 std::string PlotSensitivity(const ReportData& data, const std::string& dataset, const std::string& validation);
 
+// Measured data: RMS of the held-out errors in bins of reach (horizontal distance from axis 1) and of
+// approach speed (heldout.csv), one line per estimator: where in the workspace and after which moves a
+// model falls short.
+std::string PlotHeldoutAgainst(const ReportData& data, int variant);
+
 // Axis label of a knob column value ("noise_um" -> "position noise sigma per axis (µm)").
 std::string KnobLabel(const std::string& knob);
 

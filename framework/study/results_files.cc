@@ -124,6 +124,8 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
                          "nominal", "estimate", "stddev", "truth", "error"};
   t.convergence.header = Concat(kKey, {"iteration", "position_error_median_mm", "position_error_max_mm",
                                        "orientation_error_median_deg", "orientation_error_max_deg", "active_targets"});
+  t.heldout.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "row", "marker", "reach_mm",
+                      "approach_speed_deg_s", "error_mm"};
   t.iso9283.header = Concat(kKey, {"pose", "cycles", "AP_P_mm", "AP_a_deg", "AP_b_deg", "AP_c_deg", "RP_l_mm",
                                    "RP_a_deg", "RP_b_deg", "RP_c_deg"});
   const double mm = 1e3, deg = 180.0 / M_PI;
@@ -155,6 +157,11 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
                   Format(s.rp_abc[1] * deg), Format(s.rp_abc[2] * deg)}));
       }
     }
+    for (const HeldoutPoint& h : r->heldout) {
+      t.heldout.rows.push_back(Concat(Key(study, variants, *r, nullptr),
+                                      {std::to_string(h.row), h.marker, Format(h.reach * mm), Format(h.approach_speed * deg),
+                                       Format(h.error * mm)}));
+    }
     for (const ParameterRow& p : r->parameters) {
       t.parameters.rows.push_back(Concat(Key(study, variants, *r, nullptr),
                                          {p.name, p.unit, Format(p.nominal, 10), Format(p.estimate, 10),
@@ -170,8 +177,8 @@ void WriteStudyFiles(const std::string& dir, const nlohmann::json& manifest, con
   nlohmann::json m = manifest;
   m["shard"] = shard;
   WriteFileAtomically(dir + "/study.json", m.dump(2) + "\n");
-  const ResultTable* all[] = {&tables.results, &tables.timings, &tables.parameters, &tables.convergence, &tables.iso9283};
-  for (int i = 0; i < 5; ++i) WriteFileAtomically(dir + "/" + kStudyTableFiles[i], TableToCsv(*all[i]));
+  const auto all = tables.All();
+  for (int i = 0; i < StudyTables::kCount; ++i) WriteFileAtomically(dir + "/" + kStudyTableFiles[i], TableToCsv(*all[i]));
 }
 
 nlohmann::json ReadManifest(const std::string& dir) {
@@ -185,8 +192,8 @@ nlohmann::json ReadManifest(const std::string& dir) {
 
 StudyTables ReadStudyTables(const std::string& dir) {
   StudyTables t;
-  ResultTable* all[] = {&t.results, &t.timings, &t.parameters, &t.convergence, &t.iso9283};
-  for (int i = 0; i < 5; ++i) *all[i] = ReadResultTable(dir + "/" + kStudyTableFiles[i]);
+  const auto all = t.All();
+  for (int i = 0; i < StudyTables::kCount; ++i) *all[i] = ReadResultTable(dir + "/" + kStudyTableFiles[i]);
   return t;
 }
 
@@ -219,13 +226,13 @@ void MergeShards(const std::vector<std::string>& dirs, const std::string& out) {
   }
 
   StudyTables merged;
-  std::vector<std::pair<int, std::vector<std::string>>> keyed[5];
+  std::vector<std::pair<int, std::vector<std::string>>> keyed[StudyTables::kCount];
   std::set<int> items;
   for (const auto& dir : dirs) {
     const StudyTables t = ReadStudyTables(dir);
-    const ResultTable* in[] = {&t.results, &t.timings, &t.parameters, &t.convergence, &t.iso9283};
-    ResultTable* to[] = {&merged.results, &merged.timings, &merged.parameters, &merged.convergence, &merged.iso9283};
-    for (int f = 0; f < 5; ++f) {
+    const auto in = t.All();
+    const auto to = merged.All();
+    for (int f = 0; f < StudyTables::kCount; ++f) {
       const std::string source = dir + "/" + kStudyTableFiles[f];
       if (to[f]->header.empty()) to[f]->header = in[f]->header;
       if (in[f]->header != to[f]->header) ThrowInputError("merge: " + source + " has different columns");
@@ -245,8 +252,8 @@ void MergeShards(const std::vector<std::string>& dirs, const std::string& out) {
     ThrowInputError("merge: the shards hold " + std::to_string(items.size()) + " of the study's " +
                     std::to_string(num_items) + " work items");
   }
-  ResultTable* to[] = {&merged.results, &merged.timings, &merged.parameters, &merged.convergence, &merged.iso9283};
-  for (int f = 0; f < 5; ++f) {
+  const auto to = merged.All();
+  for (int f = 0; f < StudyTables::kCount; ++f) {
     std::stable_sort(keyed[f].begin(), keyed[f].end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& kv : keyed[f]) to[f]->rows.push_back(std::move(kv.second));
   }

@@ -10,7 +10,10 @@
 //   parameters.csv   one row per (work item, parameter): nominal, estimate, stddev, truth, error
 //   convergence.csv  compensator convergence per iteration (the study's first random validation set)
 //   iso9283.csv      ISO 9283 AP and RP per pose P1..P5
+//   heldout.csv      measured data: every held-out row's error with its reach and approach speed (the
+//                    report's error-against-reach and error-against-speed plots)
 // Every row starts with the work item's index; rows are in item order.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -38,19 +41,25 @@ ResultTable ReadResultTable(const std::string& path);
 
 // The result tables of a set of work items, in item order.
 struct StudyTables {
-  ResultTable results, timings, parameters, convergence, iso9283;
+  ResultTable results, timings, parameters, convergence, iso9283, heldout;
+  static constexpr int kCount = 6;
+  // The tables in the order of kStudyTableFiles.
+  std::array<ResultTable*, kCount> All() { return {&results, &timings, &parameters, &convergence, &iso9283, &heldout}; }
+  std::array<const ResultTable*, kCount> All() const {
+    return {&results, &timings, &parameters, &convergence, &iso9283, &heldout};
+  }
 };
-inline const char* const kStudyTableFiles[] = {"results.csv", "timings.csv", "parameters.csv", "convergence.csv",
-                                               "iso9283.csv"};
+inline const char* const kStudyTableFiles[StudyTables::kCount] = {
+    "results.csv", "timings.csv", "parameters.csv", "convergence.csv", "iso9283.csv", "heldout.csv"};
 
 StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant>& variants,
                             const std::vector<ItemResult>& results);
 
-// Writes study.json (the manifest plus "shard") and the five tables into `dir` (created if needed).
+// Writes study.json (the manifest plus "shard") and the tables into `dir` (created if needed).
 void WriteStudyFiles(const std::string& dir, const nlohmann::json& manifest, const std::string& shard,
                      const StudyTables& tables);
 
-// Reads the five tables of a results folder.
+// Reads the tables of a results folder.
 StudyTables ReadStudyTables(const std::string& dir);
 nlohmann::json ReadManifest(const std::string& dir);
 

@@ -34,8 +34,14 @@
 //                                  # arc sets step = arc / (stops - 1))
 //     - name: tracker
 //       file: ../data/tracker.csv  # measured data (kincal dataset CSV); scored on its test rows
-//       split: {test_fraction: 0.3}   # or {every: 3} (every 3rd row is a test row) or column (the
+//       split: {test_fraction: 0.3}   # or {every: 3} (every 3rd pose is a test pose) or column (the
 //                                  # file's `split` column); a fraction draws new rows each trial
+//     - name: faro                 # measured data as whitespace tables (tracker and controller exports)
+//       tables:                    # row i of every table is pose i, in measurement order
+//         joints: ../data/joints.txt           # one column per joint (controller readings)
+//         positions: {SMR1: ../data/smr1.txt}  # marker -> x y z table; several markers: one row each
+//         units: {length: mm, angle: deg}      # default mm and deg
+//       split: {every: 2}          # tables have no split column: give a split
 //   estimators:                    # pipelines; the baseline `none` always runs first
 //     - least_squares              # a registered name, or a comma-separated pipeline
 //     - name: seed                 # label in the results (default: the methods joined by '+')
@@ -72,6 +78,7 @@
 #include "framework/estimator.h"
 #include "framework/robot.h"
 #include "framework/simulator.h"
+#include "framework/units.h"
 
 namespace kincal {
 
@@ -100,8 +107,13 @@ struct DatasetSpec {
   SimulatorOptions simulator;       // simulated; its seed is set per trial
   std::optional<Eigen::Vector3d> marker;  // m, tool position override
   std::optional<KnobSweep> vary;
-  std::string file;                 // measured: resolved path
+  std::string file;                 // measured: resolved path (CSV dataset, or the joints table)
   std::string file_as_written;
+  // Measured from tables (`tables:`): `file` is the joints table; one position table per marker.
+  bool tables = false;
+  std::vector<std::pair<std::string, std::string>> position_tables;  // marker -> resolved path
+  Unit table_length_unit = {"mm", 1e-3};
+  Unit table_angle_unit = {"deg", M_PI / 180.0};
   Split split = Split::kColumn;
   double test_fraction = 0.0;
   int every = 0;

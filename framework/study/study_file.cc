@@ -241,51 +241,98 @@ void ReadVary(const Reader& r, const YAML::Node& node, const std::string& key, D
   d->vary = s;
 }
 
+// The split of a measured dataset (`split:`), after its source (`file:` or `tables:`).
+void ReadSplit(const Reader& r, const YAML::Node& node, const std::string& key, DatasetSpec* d) {
+  const std::string sk = key + ".split";
+  if (!node["split"] || (node["split"].IsScalar() && node["split"].Scalar() == "column")) {
+    if (d->tables) r.Fail(node["tables"], key + ".tables", "tables have no split column: give split: {every: N} or {test_fraction: F}");
+    d->split = DatasetSpec::Split::kColumn;
+    d->summary += ", test rows from its split column";
+    return;
+  }
+  const YAML::Node s = node["split"];
+  r.CheckKeys(s, sk, {"test_fraction", "every"});
+  if (s.size() != 1) r.Fail(s, sk, "expected one of {test_fraction: F}, {every: N} or column");
+  if (s["test_fraction"]) {
+    d->split = DatasetSpec::Split::kFraction;
+    d->test_fraction = r.Number(s["test_fraction"], sk + ".test_fraction");
+    if (!(d->test_fraction > 0.0 && d->test_fraction < 1.0)) {
+      r.Fail(s["test_fraction"], sk + ".test_fraction", "expected a fraction between 0 and 1");
+    }
+    d->summary += ", random test fraction " + s["test_fraction"].Scalar() + " per trial";
+  } else {
+    d->split = DatasetSpec::Split::kEvery;
+    d->every = r.Integer(s["every"], sk + ".every", 2);
+    d->summary += ", every " + std::to_string(d->every) + "th pose is a test pose";
+  }
+}
+
+void CheckReadable(const Reader& r, const YAML::Node& node, const std::string& key, const std::string& path) {
+  try {
+    ReadFileToString(path);
+  } catch (const std::invalid_argument&) {
+    r.Fail(node, key, "cannot read '" + path + "'");
+  }
+}
+
+// `tables:` {joints, positions: {marker: path}, units}: whitespace tables, row i of each is pose i.
+void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key, DatasetSpec* d) {
+  r.CheckKeys(node, key, {"joints", "positions", "units"});
+  if (!node["joints"]) r.Fail(node, key, "missing key 'joints' (a table of joint readings, one column per joint)");
+  if (!node["positions"]) r.Fail(node, key, "missing key 'positions' (marker: table of x y z)");
+  d->tables = true;
+  d->file_as_written = r.String(node["joints"], key + ".joints");
+  d->file = Resolve(r.file(), d->file_as_written);
+  CheckReadable(r, node["joints"], key + ".joints", d->file);
+  const YAML::Node positions = node["positions"];
+  r.ExpectMap(positions, key + ".positions");
+  if (positions.size() == 0) r.Fail(positions, key + ".positions", "expected at least one marker");
+  for (const auto& kv : positions) {
+    const std::string pk = key + ".positions." + kv.first.Scalar();
+    const std::string marker = r.Name(kv.first, pk);
+    const std::string path = Resolve(r.file(), r.String(kv.second, pk));
+    CheckReadable(r, kv.second, pk, path);
+    d->position_tables.emplace_back(marker, path);
+  }
+  if (const YAML::Node units = node["units"]) {
+    r.CheckKeys(units, key + ".units", {"length", "angle"});
+    try {
+      if (units["length"]) d->table_length_unit = LengthUnit(r.String(units["length"], key + ".units.length"));
+      if (units["angle"]) d->table_angle_unit = AngleUnit(r.String(units["angle"], key + ".units.angle"));
+    } catch (const std::invalid_argument& e) {
+      r.Fail(units, key + ".units", e.what());
+    }
+  }
+  d->summary = "measured: tables " + d->file_as_written + " (joints, " + d->table_angle_unit.name + ") and " +
+               std::to_string(d->position_tables.size()) + " marker table(s) (" + d->table_length_unit.name + ")";
+}
+
 DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::string& key, int dof) {
-  r.CheckKeys(node, key, {"name", "simulate", "vary", "file", "split"});
+  r.CheckKeys(node, key, {"name", "simulate", "vary", "file", "tables", "split"});
   DatasetSpec d;
   if (!node["name"]) r.Fail(node, key, "missing key 'name'");
   d.name = r.Name(node["name"], key + ".name");
-  if (node["simulate"] && node["file"]) r.Fail(node, key, "give either 'simulate' or 'file', not both");
+  if ((node["simulate"] ? 1 : 0) + (node["file"] ? 1 : 0) + (node["tables"] ? 1 : 0) > 1) {
+    r.Fail(node, key, "give one of 'simulate', 'file' or 'tables'");
+  }
   if (node["simulate"]) {
     ReadSimulator(r, node["simulate"], key + ".simulate", dof, &d);
-    if (node["split"]) r.Fail(node["split"], key + ".split", "a split applies to measured data ('file') only");
+    if (node["split"]) r.Fail(node["split"], key + ".split", "a split applies to measured data ('file', 'tables') only");
     if (node["vary"]) ReadVary(r, node["vary"], key + ".vary", &d);
-  } else if (node["file"]) {
-    d.simulated = false;
+    return d;
+  }
+  if (!node["file"] && !node["tables"]) r.Fail(node, key, "missing key 'simulate', 'file' or 'tables'");
+  d.simulated = false;
+  if (node["vary"]) r.Fail(node["vary"], key + ".vary", "only simulated datasets can sweep a knob");
+  if (node["file"]) {
     d.file_as_written = r.String(node["file"], key + ".file");
     d.file = Resolve(r.file(), d.file_as_written);
-    if (node["vary"]) r.Fail(node["vary"], key + ".vary", "only simulated datasets can sweep a knob");
-    const std::string sk = key + ".split";
     d.summary = "measured: " + d.file_as_written;
-    if (!node["split"] || (node["split"].IsScalar() && node["split"].Scalar() == "column")) {
-      d.split = DatasetSpec::Split::kColumn;
-      d.summary += ", test rows from its split column";
-    } else {
-      const YAML::Node s = node["split"];
-      r.CheckKeys(s, sk, {"test_fraction", "every"});
-      if (s.size() != 1) r.Fail(s, sk, "expected one of {test_fraction: F}, {every: N} or column");
-      if (s["test_fraction"]) {
-        d.split = DatasetSpec::Split::kFraction;
-        d.test_fraction = r.Number(s["test_fraction"], sk + ".test_fraction");
-        if (!(d.test_fraction > 0.0 && d.test_fraction < 1.0)) {
-          r.Fail(s["test_fraction"], sk + ".test_fraction", "expected a fraction between 0 and 1");
-        }
-        d.summary += ", random test fraction " + s["test_fraction"].Scalar() + " per trial";
-      } else {
-        d.split = DatasetSpec::Split::kEvery;
-        d.every = r.Integer(s["every"], sk + ".every", 2);
-        d.summary += ", every " + std::to_string(d.every) + "th row is a test row";
-      }
-    }
-    try {
-      ReadFileToString(d.file);
-    } catch (const std::invalid_argument&) {
-      r.Fail(node["file"], key + ".file", "cannot read '" + d.file + "'");
-    }
+    CheckReadable(r, node["file"], key + ".file", d.file);
   } else {
-    r.Fail(node, key, "missing key 'simulate' or 'file'");
+    ReadTables(r, node["tables"], key + ".tables", &d);
   }
+  ReadSplit(r, node, key, &d);
   return d;
 }
 

@@ -8,6 +8,7 @@
 #include "framework/error.h"
 #include "framework/inverse_kinematics.h"
 #include "framework/math.h"
+#include "framework/nominal_ik.h"
 #include "framework/random.h"
 
 namespace kincal {
@@ -26,6 +27,40 @@ std::vector<ValidationTarget> RandomTargets(const Robot& nominal, int count,
       t.q_nominal[j] = rng.Uniform(low, high);
     }
     t.T_meas_tool = nominal.model().ForwardKinematics(t.q_nominal);
+    targets.push_back(std::move(t));
+  }
+  return targets;
+}
+
+std::vector<ValidationTarget> ReachableRandomTargets(const Robot& nominal, const Robot& truth, int count,
+                                                     const std::vector<std::pair<double, double>>& limits,
+                                                     bool orientation, uint64_t seed) {
+  const int n = nominal.dof();
+  const NominalInverseKinematics ik(nominal);
+  Rng rng(seed);
+  std::vector<ValidationTarget> targets;
+  targets.reserve(count);
+  long rejected = 0;
+  while (static_cast<int>(targets.size()) < count) {
+    if (rejected > 100L * (count + 10)) {
+      ThrowInputError("random targets: the nominal robot reaches almost none of the real arm's poses");
+    }
+    Eigen::VectorXd q(n);
+    for (int j = 0; j < n; ++j) {
+      const auto [low, high] = limits.empty() ? truth.Limit(j) : limits[j];
+      q[j] = rng.Uniform(low, high);
+    }
+    ValidationTarget t;
+    t.T_meas_tool = truth.model().ForwardKinematics(q);
+    const IkSolution s = orientation ? ik.Solve(t.T_meas_tool, q) : ik.SolvePosition(t.T_meas_tool.translation(), q);
+    bool ok = s.status == IkStatus::kSolved;
+    for (int j = 0; ok && j < n && !limits.empty(); ++j) ok = s.q[j] >= limits[j].first && s.q[j] <= limits[j].second;
+    if (!ok) {
+      ++rejected;
+      continue;
+    }
+    // The controller commands readings; its coupling (if any) maps them to the model's joints.
+    t.q_nominal = nominal.coupling.size() ? Eigen::VectorXd(nominal.coupling.inverse() * s.q) : s.q;
     targets.push_back(std::move(t));
   }
   return targets;

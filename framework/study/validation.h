@@ -40,6 +40,15 @@ struct ValidationTarget {
 // `count` targets, commanded joints uniform within `limits` (rad; empty = the robot's limits).
 std::vector<ValidationTarget> RandomTargets(const Robot& nominal, int count,
                                             const std::vector<std::pair<double, double>>& limits, uint64_t seed);
+// `count` targets the real arm reaches: `truth`'s poses at joints uniform within `limits`, each with the
+// controller's nominal solution for it (framework/nominal_ik.h, the branch next to those joints). Poses
+// the nominal arm does not reach inside its limits are drawn again (the controller rejects them). Why not
+// nominal poses: next to a fold of the nominal workspace (a boundary singularity) a nominal pose can lie
+// outside the real arm's workspace on that branch (about 2 % of the seed arm's random configurations),
+// and no compensator can reach it.
+std::vector<ValidationTarget> ReachableRandomTargets(const Robot& nominal, const Robot& truth, int count,
+                                                     const std::vector<std::pair<double, double>>& limits,
+                                                     bool orientation, uint64_t seed);
 
 // P1..P5 of a cube of edge `side` centred at `center`, axes along the measurement frame.
 std::array<Eigen::Vector3d, 5> Iso9283Points(const Eigen::Vector3d& center, double side);

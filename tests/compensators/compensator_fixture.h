@@ -32,10 +32,12 @@ inline RandomTargets WellConditionedTargets(int count, uint64_t seed, bool orien
   return MakeRandomTargets(Arm().nominal, Arm().identified, o);
 }
 
-// Options the suites use: the defaults, except a joint_space table of 8 points per joint (4096 nodes
-// instead of 65536), so that every test process can afford to build one, also under the sanitizers.
-// joint_space_accuracy_test checks the default table against its documented accuracy.
-inline std::string TestOptions(const std::string& name) { return name == "joint_space" ? "{points: 8}" : "{}"; }
+// Options the suites use: the defaults (kept as a hook for methods whose defaults are too costly for a
+// test process).
+inline std::string TestOptions(const std::string& name) {
+  (void)name;
+  return "{}";
+}
 
 // A compensator from the registry with TestOptions, prepared on the seed arm once per process.
 inline const Compensator& Prepared(const std::string& name) {

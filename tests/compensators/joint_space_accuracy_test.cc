@@ -1,40 +1,43 @@
-// The default joint_space table (16 points per joint over joints 2..5, 65536 nodes) against the accuracy
-// its header documents. Labelled slow: building the table takes seconds, tens under the sanitizers.
+// The issue-12 acceptance figure for joint_space: the seed's arm with a tracker base 1.5 m away and a
+// marker 120 mm off the flange (tracked_arm.h), 2000 random reachable targets (configurations uniform
+// within the limits, singular neighbourhoods included), the controller's nominal solutions as seeds:
+// at least 95 % within 0.05 mm and 1e-4 rad. Labelled slow: generating the targets (2000 nominal inverse
+// kinematics solves) takes seconds, tens under the sanitizers.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-
 #include "compensators/joint_space/joint_space_compensator.h"
-#include "tests/compensators/compensator_fixture.h"
+#include "tests/compensators/tracked_arm.h"
 
 namespace kincal {
 namespace {
 
-using testing::Arm;
+using testing::Tracked;
 
-// Lookups that report kConverged are within 3 mm, median 0.3 mm (documented: 1.35 mm and 0.15 mm on the
-// benchmark's 1000 targets); over all targets the median error is a tenth of the uncompensated one.
-TEST(JointSpaceAccuracy, DefaultTableOnTheSeedArm) {
+TEST(JointSpaceAccuracy, TrackedSeedArm2000Targets) {
   JointSpaceCompensator c;
-  c.Prepare(Arm().nominal, Arm().identified);
-  EXPECT_EQ(c.table_info().joints, (std::vector<int>{2, 3, 4, 5}));
-  EXPECT_EQ(c.table_info().nodes, 16 * 16 * 16 * 16);
-  const Compensator& none = testing::Prepared("none");
-  std::vector<double> converged, all, uncompensated;
-  for (const CompensationTarget& t : testing::WellConditionedTargets(300, 32).targets) {
+  c.Prepare(Tracked().nominal, Tracked().identified);
+  EXPECT_LE(c.table_info().memory_bytes, 50e6);
+  RandomTargetOptions o;
+  o.count = 2000;
+  o.seed = 12;
+  const RandomTargets targets = MakeRandomTargets(Tracked().nominal, Tracked().identified, o);
+  int within = 0, converged = 0, converged_within = 0;
+  for (const CompensationTarget& t : targets.targets) {
     const CompensationResult r = c.Compensate(t);
-    all.push_back(r.report.position_error);
-    uncompensated.push_back(none.Compensate(t).report.position_error);
-    if (r.report.status == CompensationStatus::kConverged) converged.push_back(r.report.position_error);
+    const bool ok = r.report.position_error <= 0.05e-3 && r.report.orientation_error <= 1e-4;
+    within += ok;
+    if (r.report.status == CompensationStatus::kConverged) {
+      ++converged;
+      converged_within += ok;
+    }
   }
-  const auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-  };
-  ASSERT_GE(converged.size(), all.size() / 3);
-  EXPECT_LE(*std::max_element(converged.begin(), converged.end()), 3e-3);
-  EXPECT_LE(median(converged), 0.3e-3);
-  EXPECT_LE(median(all), median(uncompensated) / 10);
+  const double n = static_cast<double>(targets.targets.size());
+  RecordProperty("within_fraction", std::to_string(within / n));
+  std::printf("joint_space: %.2f %% within 0.05 mm and 1e-4 rad, %.2f %% converged\n", 100 * within / n,
+              100 * converged / n);
+  EXPECT_GE(within / n, 0.95);
+  // kConverged is honest: every target reported converged is within the figure.
+  EXPECT_EQ(converged_within, converged);
 }
 
 }  // namespace

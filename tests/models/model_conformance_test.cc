@@ -7,6 +7,7 @@
 #include "models/hayati_model.h"
 #include "models/poe_model.h"
 #include "models/mdh_model.h"
+#include "models/urdf_model.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {
@@ -119,7 +120,9 @@ TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
   const Matrix6Xd J = model->JointJacobian(q);
   const int offset = model->convention() == "dh" ? 0 : 1;
   for (int i = 0; i < model->dof(); ++i) {
-    const Eigen::Vector3d z = frames[i + offset].linear().col(2);
+    Eigen::Vector3d z = frames[i + offset].linear().col(2);
+    // URDF: the axis is any direction in the child link's frame.
+    if (const auto* urdf = dynamic_cast<const UrdfModel*>(model.get())) z = frames[i + 1].linear() * urdf->JointAxis(i);
     // A revolute joint turns about z; a prismatic one slides along it.
     const Eigen::Vector3d axis = model->joint_type(i) == JointType::kRevolute ? J.col(i).tail<3>() : J.col(i).head<3>();
     EXPECT_TRUE(axis.isApprox(z, 1e-12)) << "joint " << i + 1;
@@ -147,8 +150,9 @@ TEST_P(ModelConformance, ParametersByName) {
   model->SetParameter(name, 0.25);
   EXPECT_EQ(model->Parameter(name), 0.25);
   EXPECT_THROW(model->ParameterIndex("a_99"), std::invalid_argument);
-  model->SetFree("theta_1", false);
-  EXPECT_FALSE(model->FreeMask()[model->ParameterIndex("theta_1")]);
+  const std::string joint_name = model->FindParameter("theta_1") >= 0 ? "theta_1" : names[0];
+  model->SetFree(joint_name, false);
+  EXPECT_FALSE(model->FreeMask()[model->ParameterIndex(joint_name)]);
   const auto clone = model->Clone();
   EXPECT_EQ(clone->Parameters(), model->Parameters());
   EXPECT_EQ(clone->FreeMask(), model->FreeMask());
@@ -185,6 +189,12 @@ INSTANTIATE_TEST_SUITE_P(
                     return Randomized(std::make_unique<PoeModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       9);
+                  }},
+        ModelCase{"urdf6", [] { return Randomized(std::make_unique<UrdfModel>(6), 10); }},
+        ModelCase{"urdf_rpr", [] {
+                    return Randomized(std::make_unique<UrdfModel>(std::vector<JointType>{
+                                          JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
+                                      12);
                   }},
         ModelCase{"mdh3", [] { return Randomized(std::make_unique<MdhModel>(3), 3); }},
         ModelCase{"mdh7", [] { return Randomized(std::make_unique<MdhModel>(7), 4); }},

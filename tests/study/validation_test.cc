@@ -84,5 +84,23 @@ TEST(RandomTargets, AreTheNominalPosesOfCommandsWithinLimits) {
   EXPECT_NE(RandomTargets(robot, 50, limits, 12)[49].q_nominal, targets[49].q_nominal);
 }
 
+// The real arm reaches every target (its pose at joints within the limits), and the nominal solution
+// reaches it on the nominal arm.
+TEST(RandomTargets, ReachableTargetsAreTheTruthsPosesWithTheNominalSolution) {
+  const Robot nominal = testing::SeedNominal(), truth = testing::SeedTruth();
+  const auto targets = ReachableRandomTargets(nominal, truth, 200, {}, true, 5);
+  ASSERT_EQ(targets.size(), 200u);
+  for (const auto& t : targets) {
+    const Eigen::Isometry3d T = nominal.model().ForwardKinematics(t.q_nominal);
+    EXPECT_LT((T.translation() - t.T_meas_tool.translation()).norm(), 1e-9);
+    EXPECT_LT(RotationAngleBetween(T.linear(), t.T_meas_tool.linear()), 1e-9);
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_GE(t.q_nominal[j], nominal.Limit(j).first);
+      EXPECT_LE(t.q_nominal[j], nominal.Limit(j).second);
+    }
+  }
+  EXPECT_EQ(ReachableRandomTargets(nominal, truth, 200, {}, true, 5)[199].q_nominal, targets[199].q_nominal);
+}
+
 }  // namespace
 }  // namespace kincal

@@ -70,6 +70,25 @@ TEST(ArcFit, UnwrapsArcsBeyondHalfATurn) {
   EXPECT_NEAR(fit.angle_slope, 1.0, 1e-12);
 }
 
+// Stops more than half a turn apart (a wrist swept -360, -72, 216 deg): the shortest way between the
+// in-plane directions runs backwards (-72 deg per step), which reversed the axis; the readings' steps
+// decide the turn, in either row order and whichever way the joint turns.
+TEST(ArcFit, StepsBeyondHalfATurnFollowTheReadings) {
+  const Eigen::Vector3d c(0.1, -0.3, 0.6), z = Eigen::Vector3d(-0.97, -0.23, 0.01).normalized();
+  for (const std::vector<double>& x : {std::vector<double>{-2 * M_PI, -0.4 * M_PI, 1.2 * M_PI},
+                                       std::vector<double>{1.2 * M_PI, -2 * M_PI, -0.4 * M_PI},
+                                       std::vector<double>{-2 * M_PI, -1.2 * M_PI, -0.4 * M_PI, 0.4 * M_PI}}) {
+    for (double turn : {1.0, -1.0}) {
+      const ArcFit fit = FitArc(Stops(c, z, 0.2, 0.5, turn, x), x, ArcFitOptions());
+      EXPECT_NEAR(fit.axis.dot(z), turn, 1e-12);
+      EXPECT_NEAR(fit.angle_slope, 1.0, 1e-12);
+      for (double xk : x) {
+        EXPECT_NEAR((fit.PointAtAngle(fit.AngleAt(xk)) - Stops(c, z, 0.2, 0.5, turn, {xk})[0]).norm(), 0.0, 1e-12);
+      }
+    }
+  }
+}
+
 TEST(ArcFit, RefusesDegenerateSweeps) {
   const Eigen::Vector3d c(0, 0, 0), z(0, 0, 1);
   const std::vector<double> x = Steps(20, 2 * M_PI / 180);

@@ -234,18 +234,35 @@ TEST(GeometricEstimator, OptionsFromYaml) {
   EXPECT_THROW(Estimators().Create("geometric", YAML::Load("{stddev: guess}")), std::invalid_argument);
 }
 
-// Several markers on the tool: the option `marker` chooses whose sweeps identify the robot.
-TEST(GeometricEstimator, ChoosesAmongSeveralMarkers) {
+// Several markers on the tool: by default all are fitted together (one axis per joint, the markers'
+// positions identified and the tool kept); the option `marker` chooses one instead.
+TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
   Robot nominal = SeedNominal(), truth = SeedTruth();
   nominal.markers = {{"A", Eigen::Vector3d(0, 0, 0)}, {"B", Eigen::Vector3d(0.02, 0, 0)}};
-  truth.markers = nominal.markers;
+  truth.markers = {{"A", Eigen::Vector3d(0.001, -0.002, 0.003)}, {"B", Eigen::Vector3d(0.021, 0.001, -0.002)}};
   const Dataset data = SeedSweeps(nominal, truth, 0.0, 1);
   Robot identified;
-  EXPECT_THROW(GeometricEstimator().Estimate(nominal, data, &identified), std::invalid_argument);
+  const EstimationReport report = GeometricEstimator().Estimate(nominal, data, &identified);
+  EXPECT_EQ(report.details["markers"].size(), 2u);
+  const Eigen::VectorXd a = identified.model().Parameters(), b = truth.model().Parameters();
+  const std::vector<ParameterInfo> info = identified.model().parameter_info();  // a copy: identified is reassigned below
+  for (int k = 0; k < identified.model().num_parameters(); ++k) {
+    if (info[k].name.rfind("tool_", 0) != 0) EXPECT_NEAR(a[k], b[k], 1e-11) << info[k].name;
+  }
+  EXPECT_TRUE(identified.model().tool().isApprox(nominal.model().tool(), 0.0));
+  for (const char* id : {"A", "B"}) {
+    // Each marker in frame 6 where the truth has it.
+    EXPECT_LT((identified.model().tool() * identified.markers.at(id) - truth.model().tool() * truth.markers.at(id)).norm(),
+              1e-12) << id;
+  }
   GeometricEstimator::Options o;
   o.marker = "A";
   GeometricEstimator(o).Estimate(nominal, data, &identified);
-  EXPECT_LT(MaxParameterError(identified, truth), 1e-12);
+  for (int k = 0; k < identified.model().num_parameters(); ++k) {
+    if (info[k].name.rfind("tool_", 0) != 0) EXPECT_NEAR(identified.model().Parameters()[k], b[k], 1e-11) << info[k].name;
+  }
+  EXPECT_LT((identified.model().tool() * identified.markers.at("A") - truth.model().tool() * truth.markers.at("A")).norm(),
+            1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,123 @@
+// kincal ik ROBOT.yaml --targets T.csv --out Q.csv [--all-branches]
+// Inverse kinematics of a robot (framework/nominal_ik.h): closed form where the geometry allows, numeric
+// otherwise. Targets: x_mm,y_mm,z_mm (or _m) with qw,qx,qy,qz (without them: position-only, numeric),
+// optionally q1_deg..qN_deg (or _rad) as each row's reference joints. The targets are a program: each is
+// solved on the branch closest to the previous row's solution (the first: to the middle of the limits),
+// unless the row gives its reference.
+// Output, one row per target in order: q1..qN (the model's joint angles, the robot file's angle unit),
+// status (solved, out_of_limits, unreachable, singular), branch (closed-form branch, -1 numeric),
+// position_error (targets' length unit), orientation_error_deg. --all-branches: every closed-form branch,
+// one row each, with a leading `target` column (1-based); a target without any gets one numeric row.
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <map>
+
+#include "apps/commands.h"
+#include "framework/atomic_file.h"
+#include "framework/dataset.h"
+#include "framework/error.h"
+#include "framework/nominal_ik.h"
+#include "framework/robot_file.h"
+
+namespace kincal::app {
+
+void AddIkCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("ik", "joint solutions of a robot for target poses (every branch in closed form where possible)");
+  struct Args {
+    std::string robot, targets, out;
+    bool all_branches = false;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("robot", a->robot, "robot file (YAML)")->required();
+  cmd->add_option("--targets", a->targets, "targets (CSV): x_mm,y_mm,z_mm[,qw,qx,qy,qz][,q1_deg..qN_deg references]")
+      ->required();
+  cmd->add_option("--out", a->out, "joint solutions to write (CSV)")->required();
+  cmd->add_flag("--all-branches", a->all_branches, "every closed-form branch of each target, one row each");
+  cmd->callback([a]() {
+    const Robot robot = ReadRobotFile(a->robot);
+    const Dataset data = ReadDataset(a->targets);
+    const int n = robot.dof();
+    if (data.dof != 0 && data.dof != n) {
+      ThrowInputError(data.source, data.header_line, 0,
+                      "the targets have " + std::to_string(data.dof) + " joint (reference) columns but the robot has " +
+                          std::to_string(n) + " joints");
+    }
+    if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit() ||
+        data.HasFromColumns()) {
+      ThrowInputError(data.source, data.header_line, 0,
+                      "targets take x, y, z, optionally qw, qx, qy, qz and references q1..qN; enc, sweep, marker, "
+                      "session, split and from_q columns have no meaning here");
+    }
+    if (data.rows.empty()) ThrowInputError(data.source, data.header_line, 0, "no targets");
+    const NominalInverseKinematics ik(robot);
+    const Unit angle = robot.angle_unit;
+    const Unit length = data.length_unit;
+    const double deg = M_PI / 180.0;
+    std::string out;
+    const auto append = [&out](auto value) {
+      char buffer[32];
+      const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+      (void)ec;
+      out.append(buffer, end);
+    };
+    if (a->all_branches) out += "target,";
+    for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
+    out += "status,branch,position_error_" + length.name + ",orientation_error_deg\n";
+    const auto write = [&](size_t row, const IkSolution& s) {
+      if (a->all_branches) {
+        append(row + 1);
+        out += ',';
+      }
+      for (int j = 0; j < n; ++j) {
+        append(s.q[j] / angle.to_si);
+        out += ',';
+      }
+      out += ToString(s.status);
+      out += ',';
+      append(s.branch);
+      out += ',';
+      append(s.position_error / length.to_si);
+      out += ',';
+      append(s.orientation_error / deg);
+      out += '\n';
+    };
+    std::map<std::string, int> counts;
+    Eigen::VectorXd previous;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < data.rows.size(); ++i) {
+      const Measurement& m = data.rows[i];
+      const Eigen::VectorXd reference = data.dof > 0 ? m.q : previous;
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() = m.p;
+      IkSolution s;
+      if (!m.orientation) {
+        s = ik.SolvePosition(m.p, reference);
+      } else {
+        T.linear() = m.orientation->toRotationMatrix();
+        s = ik.Solve(T, reference);
+      }
+      ++counts[ToString(s.status)];
+      previous = s.q;
+      if (a->all_branches && m.orientation) {
+        const std::vector<IkSolution> all = ik.AllBranches(T, reference);
+        for (const IkSolution& b : all) write(i, b);
+        if (all.empty()) write(i, s);
+      } else {
+        write(i, s);
+      }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    WriteFileAtomically(a->out, out);
+    std::cout << "ik (" << ik.method() << "): " << data.rows.size() << " targets (";
+    bool first = true;
+    for (const auto& [status, count] : counts) {
+      std::cout << (first ? "" : ", ") << count << " " << status;
+      first = false;
+    }
+    std::cout << "), " << seconds / data.rows.size() * 1e6 << " us per target; wrote " << a->out << "\n";
+  });
+}
+
+}  // namespace kincal::app

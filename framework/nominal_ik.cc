@@ -1,0 +1,640 @@
+#include "framework/nominal_ik.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include "framework/math.h"
+#include "framework/random.h"
+
+namespace kincal {
+
+std::string ToString(IkStatus status) {
+  switch (status) {
+    case IkStatus::kSolved: return "solved";
+    case IkStatus::kOutOfLimits: return "out_of_limits";
+    case IkStatus::kUnreachable: return "unreachable";
+    case IkStatus::kSingular: return "singular";
+  }
+  return "unknown";
+}
+
+bool NominalIkOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
+  if (!(distance_tolerance > 0) || !(direction_tolerance > 0)) return fail("detection tolerances must be > 0");
+  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
+  if (!configuration.empty()) {
+    for (int s : configuration) {
+      if (s < -1 || s > 1) return fail("configuration entries must be -1, 0 or +1");
+    }
+  }
+  return numeric.IsValid(why);
+}
+
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+// A revolute joint's screw at q = 0: unit direction w and a point p on the axis (space frame).
+struct Screw {
+  Vector3d w, p;
+};
+
+Matrix3d Rot(const Vector3d& w, double angle) { return Eigen::AngleAxisd(angle, w).toRotationMatrix(); }
+
+Isometry3d Exp(const Screw& s, double angle) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Rot(s.w, angle);
+  T.translation() = s.p - T.linear() * s.p;
+  return T;
+}
+
+// M E_s(q) M^-1 = E_{M s}(q).
+Screw Moved(const Isometry3d& M, const Screw& s) { return {M.linear() * s.w, M * s.p}; }
+
+// Paden-Kahan subproblem 1: the angle about w that turns x into y (their components across w).
+// *degenerate when x has (almost) no such component: every angle does.
+double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate = nullptr) {
+  const Vector3d xp = x - w * w.dot(x), yp = y - w * w.dot(y);
+  if (degenerate) *degenerate = xp.norm() < 1e-12 * (1.0 + x.norm());
+  return std::atan2(w.dot(xp.cross(yp)), xp.dot(yp));
+}
+
+// Paden-Kahan subproblem 2 for unit vectors: angles (a, b) with Rot(w1, a) Rot(w2, b) u = v; w1, w2 not
+// parallel. The intermediate c = Rot(w2, b) u = Rot(w1, -a) v has known heights along w1 and w2.
+std::vector<std::pair<double, double>> Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u,
+                                                   const Vector3d& v) {
+  const double k = w1.dot(w2);
+  const Vector3d n = w1.cross(w2);
+  const double n2 = n.squaredNorm();
+  if (n2 < 1e-20) return {};
+  const double alpha = (w1.dot(v) - k * w2.dot(u)) / (1 - k * k);
+  const double beta = (w2.dot(u) - k * w1.dot(v)) / (1 - k * k);
+  double g2 = (u.squaredNorm() - alpha * alpha - beta * beta - 2 * alpha * beta * k) / n2;
+  if (g2 < -1e-8) return {};
+  g2 = std::max(g2, 0.0);
+  std::vector<std::pair<double, double>> out;
+  for (double sign : {1.0, -1.0}) {
+    const Vector3d c = alpha * w1 + beta * w2 + sign * std::sqrt(g2) * n;
+    out.emplace_back(Subproblem1(w1, c, v), Subproblem1(w2, u, c));
+  }
+  return out;
+}
+
+// A unit vector across w.
+Vector3d Across(const Vector3d& w) {
+  const Vector3d t = std::abs(w.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
+  return w.cross(t).normalized();
+}
+
+// 3R positioning: angles (a, b, c) with E_A(a) E_B(b) E_C(c) p0 = p. Pieper's invariants of the rotation
+// about A, |f - pA|^2 and wA.(f - pA) for f = E_B(b) E_C(c) p0, give two equations
+//     alpha_i(c) cos b + beta_i(c) sin b + gamma_i(c) = 0,   i = 1, 2,
+// with alpha, beta, gamma of degree 1 in (cos c, sin c). Eliminating b (cos^2 b + sin^2 b = 1) leaves
+//     F(c) = (beta1 gamma2 - beta2 gamma1)^2 + (alpha2 gamma1 - alpha1 gamma2)^2 - (alpha1 beta2 - alpha2 beta1)^2,
+// a trigonometric polynomial of degree <= 4: its Fourier coefficients come exactly from 16 samples, its
+// roots z = e^{ic} from the companion matrix of z^m F(z). *degenerate: F vanishes identically.
+std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p,
+                              bool* degenerate) {
+  *degenerate = false;
+  // Points on A and B at their common perpendicular (so that d = 0 when they meet).
+  {
+    const double k = A.w.dot(B.w);
+    const Vector3d r = B.p - A.p;
+    if (1 - k * k > 1e-12) {
+      const double s = (A.w.dot(r) - k * B.w.dot(r)) / (1 - k * k);
+      const double t = (k * A.w.dot(r) - B.w.dot(r)) / (1 - k * k);
+      A.p += s * A.w;
+      B.p += t * B.w;
+    }
+  }
+  const Vector3d d = B.p - A.p;
+  const double rho = (p - A.p).squaredNorm(), h = A.w.dot(p - A.p);
+  const Vector3d v = p0 - C.p;
+  const Vector3d U1 = v - C.w * C.w.dot(v), U2 = C.w.cross(v), U0 = C.w * C.w.dot(v) + C.p - B.p;
+  const double dwB = d.dot(B.w), kAB = A.w.dot(B.w);
+  struct Coef {
+    double a1, b1, g1, a2, b2, g2;
+  };
+  const auto coef = [&](double c) {
+    const Vector3d u = U1 * std::cos(c) + U2 * std::sin(c) + U0;
+    const double uwB = B.w.dot(u);
+    const Vector3d wxu = B.w.cross(u);
+    Coef k;
+    k.a1 = 2 * (d.dot(u) - dwB * uwB);
+    k.b1 = 2 * d.dot(wxu);
+    k.g1 = u.squaredNorm() + d.squaredNorm() + 2 * dwB * uwB - rho;
+    k.a2 = A.w.dot(u) - kAB * uwB;
+    k.b2 = A.w.dot(wxu);
+    k.g2 = kAB * uwB + A.w.dot(d) - h;
+    return k;
+  };
+  const auto F = [&](double c) {
+    const Coef k = coef(c);
+    const double x = k.b1 * k.g2 - k.b2 * k.g1, y = k.a2 * k.g1 - k.a1 * k.g2, D = k.a1 * k.b2 - k.a2 * k.b1;
+    return x * x + y * y - D * D;
+  };
+  constexpr int kSamples = 16;
+  double samples[kSamples];
+  for (int s = 0; s < kSamples; ++s) samples[s] = F(2 * M_PI * s / kSamples);
+  std::complex<double> f[5];  // f[m], m = 0..4; f[-m] = conj(f[m])
+  double scale = 0.0;
+  for (int m = 0; m <= 4; ++m) {
+    std::complex<double> sum = 0.0;
+    for (int s = 0; s < kSamples; ++s) sum += samples[s] * std::polar(1.0, -2 * M_PI * m * s / kSamples);
+    f[m] = sum / double(kSamples);
+    scale = std::max(scale, std::abs(f[m]));
+  }
+  int degree = 4;
+  while (degree > 0 && std::abs(f[degree]) <= 1e-11 * scale) --degree;
+  std::vector<double> roots;
+  if (degree == 0) {
+    // F is constant: no solution, or every c solves (a degenerate arm at this pose).
+    *degenerate = scale == 0.0 || std::abs(f[0]) <= 1e-12 * (std::abs(samples[0]) + 1e-300);
+    if (!*degenerate) return {};
+    *degenerate = true;
+    return {};
+  }
+  // z^degree F(z) = sum_{j=0}^{2 degree} coef_j z^j with coef_j = f[j - degree].
+  const int N = 2 * degree;
+  const auto coefficient = [&](int j) {
+    const int m = j - degree;
+    return m >= 0 ? f[m] : std::conj(f[-m]);
+  };
+  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(N, N);
+  const std::complex<double> lead = coefficient(N);
+  for (int j = 0; j < N; ++j) companion(0, N - 1 - j) = -coefficient(j) / lead;
+  for (int j = 1; j < N; ++j) companion(j, j - 1) = 1.0;
+  const Eigen::VectorXcd z = Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(companion, false).eigenvalues();
+  for (int j = 0; j < N; ++j) {
+    if (!std::isfinite(z[j].real()) || std::abs(std::abs(z[j]) - 1.0) > 2e-2) continue;
+    double c = std::arg(z[j]);
+    // Newton on F (derivative from the Fourier series) polishes the eigenvalue's angle.
+    for (int it = 0; it < 4; ++it) {
+      std::complex<double> value = f[0], slope = 0.0;
+      for (int m = 1; m <= degree; ++m) {
+        const std::complex<double> e = std::polar(1.0, m * c);
+        value += 2.0 * (f[m] * e).real();
+        slope += 2.0 * (std::complex<double>(0, m) * f[m] * e).real();
+      }
+      if (std::abs(slope.real()) < 1e-300) break;
+      const double step = value.real() / slope.real();
+      if (!std::isfinite(step) || std::abs(step) > 0.1) break;
+      c -= step;
+    }
+    bool duplicate = false;
+    for (double r : roots) duplicate = duplicate || std::abs(WrapAngle(r - c)) < 1e-7;
+    if (!duplicate) roots.push_back(c);
+  }
+  std::vector<Vector3d> out;
+  const double length = 1.0 + p.norm() + p0.norm();
+  for (double c : roots) {
+    const Coef k = coef(c);
+    std::vector<double> bs;
+    const double D = k.a1 * k.b2 - k.a2 * k.b1;
+    const double n1 = std::hypot(k.a1, k.b1), n2 = std::hypot(k.a2, k.b2);
+    if (std::abs(D) > 1e-7 * n1 * n2) {
+      bs.push_back(std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D));
+    } else {
+      // The two equations are dependent in (cos b, sin b) (e.g. A and B meet): use the better one.
+      const bool first = n1 / length > n2;
+      const double a = first ? k.a1 : k.a2, b = first ? k.b1 : k.b2, g = first ? k.g1 : k.g2;
+      const double r = std::hypot(a, b);
+      if (r < 1e-14 * length) {
+        *degenerate = true;
+        continue;
+      }
+      const double phi = std::atan2(b, a), delta = std::acos(std::clamp(-g / r, -1.0, 1.0));
+      bs.push_back(phi + delta);
+      if (delta > 1e-9) bs.push_back(phi - delta);
+    }
+    for (double b : bs) {
+      const Vector3d fp = Exp(B, b) * (Exp(C, c) * p0);
+      bool free_a = false;
+      const double a = Subproblem1(A.w, fp - A.p, p - A.p, &free_a);
+      if (free_a) *degenerate = true;
+      const Vector3d reached = Exp(A, a) * fp;
+      if ((reached - p).norm() < 1e-4 * length) out.emplace_back(a, b, c);
+    }
+  }
+  return out;
+}
+
+// The point where three lines meet (least squares) and the largest distance of it to them.
+Vector3d CommonPoint(const Screw* s, int count, double* distance) {
+  Matrix3d A = Matrix3d::Zero();
+  Vector3d b = Vector3d::Zero();
+  for (int i = 0; i < count; ++i) {
+    const Matrix3d P = Matrix3d::Identity() - s[i].w * s[i].w.transpose();
+    A += P;
+    b += P * s[i].p;
+  }
+  const Vector3d w = A.ldlt().solve(b);
+  *distance = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const Vector3d r = w - s[i].p;
+    *distance = std::max(*distance, (r - s[i].w * s[i].w.dot(r)).norm());
+  }
+  if (!w.allFinite()) *distance = INFINITY;
+  return w;
+}
+
+double LineDistance(const Screw& a, const Screw& b) {
+  const Vector3d n = a.w.cross(b.w);
+  const Vector3d r = b.p - a.p;
+  if (n.norm() < 1e-12) return (r - a.w * a.w.dot(r)).norm();
+  return std::abs(r.dot(n)) / n.norm();
+}
+
+}  // namespace
+
+struct NominalInverseKinematics::Impl {
+  enum class Kind { kNumeric, kPieper, kParallel };
+  Robot robot;
+  NominalIkOptions options;
+  int n = 0;
+  Kind kind = Kind::kNumeric;
+  int first = 0;          // first joint (0-based, in the solved chain) of the triple
+  bool reversed = false;  // the chain is solved backwards (T^-1, joints in reverse order)
+  std::vector<Screw> screws;  // of the solved chain
+  Isometry3d T0 = Isometry3d::Identity();  // of the solved chain
+  Vector3d center = Vector3d::Zero();  // Pieper: where the triple meets; parallel: where the pair meets
+  VectorXd middle;
+
+  void Detect();
+  // Raw closed-form branches (unpolished, unwrapped) of the model's joint order; *degenerate when some
+  // solution family is continuous.
+  std::vector<VectorXd> Branches(const Isometry3d& T, bool* degenerate) const;
+  std::vector<VectorXd> PieperBranches(const Isometry3d& M, bool* degenerate) const;
+  std::vector<VectorXd> ParallelBranches(const Isometry3d& M, bool* degenerate) const;
+  // Newton on the model; returns the errors.
+  void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const;
+  bool WrapIntoLimits(const VectorXd& reference, VectorXd* q) const;
+  bool Singular(const VectorXd& q) const;
+  bool MatchesConfiguration(const VectorXd& q) const;
+  IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference) const;
+  IkSolution Finish(const Isometry3d& T, VectorXd q, const VectorXd& reference, int branch) const;
+};
+
+void NominalInverseKinematics::Impl::Detect() {
+  const KinematicModel& model = robot.model();
+  if (n != 6 || !options.use_closed_form) return;
+  for (int j = 0; j < n; ++j) {
+    if (model.joint_type(j) != JointType::kRevolute) return;
+  }
+  const VectorXd zero = VectorXd::Zero(n);
+  const Isometry3d T_zero = model.ForwardKinematics(zero);
+  const Matrix6Xd J = model.JointJacobian(zero);
+  std::vector<Screw> forward(n);
+  double length = 1.0;
+  for (int j = 0; j < n; ++j) {
+    const Vector3d w = J.col(j).tail<3>(), v = J.col(j).head<3>();
+    if (std::abs(w.norm() - 1) > 1e-9) return;
+    forward[j] = {w, T_zero.translation() + w.cross(v)};
+    length = std::max(length, forward[j].p.norm());
+  }
+  // The product of exponentials must be the model (it is for every serial chain of revolute joints).
+  Rng rng(7);
+  for (int trial = 0; trial < 3; ++trial) {
+    VectorXd q(n);
+    for (int j = 0; j < n; ++j) q[j] = rng.Uniform(-M_PI, M_PI);
+    Isometry3d T = Isometry3d::Identity();
+    for (int j = 0; j < n; ++j) T = T * Exp(forward[j], q[j]);
+    T = T * T_zero;
+    const Vector6d e = PoseError(T, model.ForwardKinematics(q));
+    if (!(e.head<3>().norm() < 1e-9 * length && e.tail<3>().norm() < 1e-9)) return;
+  }
+  // The reversed chain: T^-1 = E'_n(q_n) ... E'_1(q_1) T0^-1 with E'_j = E of -(T0^-1 s_j).
+  std::vector<Screw> backward(n);
+  const Isometry3d T_inv = T_zero.inverse();
+  for (int j = 0; j < n; ++j) backward[n - 1 - j] = {-(T_inv.linear() * forward[j].w), T_inv * forward[j].p};
+  const double dtol = options.distance_tolerance, wtol = options.direction_tolerance;
+  const auto parallel = [&](const Screw& a, const Screw& b) { return a.w.cross(b.w).norm() < wtol; };
+  // Pieper: prefer the wrist (the last three), then the others.
+  for (int t : {3, 0, 1, 2}) {
+    if (parallel(forward[t], forward[t + 1]) || parallel(forward[t + 1], forward[t + 2])) continue;
+    double distance = 0.0;
+    const Vector3d w = CommonPoint(&forward[t], 3, &distance);
+    if (distance < dtol * length) {
+      kind = Kind::kPieper;
+      first = t;
+      screws = forward;
+      T0 = T_zero;
+      center = w;
+      return;
+    }
+  }
+  // Three parallel axes 2, 3, 4 with axes 5 and 6 meeting (or the mirror image, by reversal).
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::vector<Screw>& s = pass == 0 ? forward : backward;
+    if (!parallel(s[1], s[2]) || !parallel(s[2], s[3]) || parallel(s[0], s[1]) || parallel(s[4], s[5])) continue;
+    if (LineDistance(s[1], s[2]) < dtol * length || LineDistance(s[2], s[3]) < dtol * length) continue;
+    if (LineDistance(s[4], s[5]) > dtol * length) continue;
+    double distance = 0.0;
+    const Vector3d u = CommonPoint(&s[4], 2, &distance);
+    kind = Kind::kParallel;
+    first = 1;
+    reversed = pass == 1;
+    screws = s;
+    T0 = pass == 0 ? T_zero : T_inv;
+    center = u;
+    return;
+  }
+}
+
+std::vector<VectorXd> NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, bool* degenerate) const {
+  // Joints after the triple, moved by M, then those before: the 3R chain that takes w to M w.
+  std::vector<int> outer;
+  std::vector<Screw> chain;
+  for (int j = first + 3; j < n; ++j) {
+    outer.push_back(j);
+    chain.push_back(Moved(M, screws[j]));
+  }
+  for (int j = 0; j < first; ++j) {
+    outer.push_back(j);
+    chain.push_back(screws[j]);
+  }
+  const std::vector<Vector3d> positions = Solve3R(chain[0], chain[1], chain[2], center, M * center, degenerate);
+  std::vector<VectorXd> out;
+  for (const Vector3d& abc : positions) {
+    VectorXd q = VectorXd::Zero(n);
+    for (int k = 0; k < 3; ++k) q[outer[k]] = abc[k];
+    Isometry3d before = Isometry3d::Identity(), after = Isometry3d::Identity();
+    for (int j = 0; j < first; ++j) before = before * Exp(screws[j], q[j]);
+    for (int j = first + 3; j < n; ++j) after = after * Exp(screws[j], q[j]);
+    const Matrix3d R_N = (before.inverse() * M * after.inverse()).linear();
+    const Vector3d& w1 = screws[first].w;
+    const Vector3d& w2 = screws[first + 1].w;
+    const Vector3d& w3 = screws[first + 2].w;
+    for (const auto& [x, y] : Subproblem2(w1, w2, w3, R_N * w3)) {
+      const Vector3d e = Across(w3);
+      q[first] = x;
+      q[first + 1] = y;
+      q[first + 2] = Subproblem1(w3, e, (Rot(w1, x) * Rot(w2, y)).transpose() * R_N * e);
+      out.push_back(q);
+    }
+  }
+  return out;
+}
+
+std::vector<VectorXd> NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, bool* degenerate) const {
+  const Screw &X = screws[0], &P1 = screws[1], &P2 = screws[2], &P3 = screws[3], &Y = screws[4], &Z = screws[5];
+  const Vector3d& w = P1.w;
+  std::vector<VectorXd> out;
+  // The planar triple keeps heights along w: w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u.
+  const Vector3d m = M * center - X.p;
+  const double A = w.dot(m - X.w * X.w.dot(m)), B = -w.dot(X.w.cross(m));
+  const double C = w.dot(center - X.p) - w.dot(X.w) * X.w.dot(m);
+  const double r = std::hypot(A, B);
+  if (r < 1e-12) {
+    *degenerate = true;
+    return out;
+  }
+  if (std::abs(C) > r * (1 + 1e-9)) return out;
+  const double phi = std::atan2(B, A), delta = std::acos(std::clamp(C / r, -1.0, 1.0));
+  for (double a : {phi + delta, phi - delta}) {
+    // The triple keeps w: R_Y(y) R_Z(z) (R_M^T R_X(a) w) = w.
+    const Vector3d v = M.linear().transpose() * Rot(X.w, a) * w;
+    for (const auto& [y, z] : Subproblem2(Y.w, Z.w, v, w)) {
+      const Isometry3d P = Exp(X, -a) * M * Exp(Z, -z) * Exp(Y, -y);
+      // Elbow: the point of axis P3 goes from s to t by turns about P2 then P1 (circle intersection).
+      const Vector3d s = P3.p, t = P * P3.p;
+      const auto flat = [&](const Vector3d& x) { return Vector3d(x - w * w.dot(x)); };
+      const Vector3d c1 = flat(P1.p), c2 = flat(P2.p);
+      const double r2 = flat(s - P2.p).norm(), r1 = flat(t - P1.p).norm();
+      const Vector3d dv = c2 - c1;
+      const double dist = dv.norm();
+      if (dist < 1e-12) {
+        *degenerate = true;
+        continue;
+      }
+      const double along = (r1 * r1 - r2 * r2 + dist * dist) / (2 * dist);
+      double h2 = r1 * r1 - along * along;
+      if (h2 < -1e-9 * (r1 * r1 + 1e-12)) continue;
+      h2 = std::max(h2, 0.0);
+      for (double sign : {1.0, -1.0}) {
+        const Vector3d x = c1 + along * dv / dist + sign * std::sqrt(h2) * w.cross(dv) / dist;
+        VectorXd q(n);
+        q[0] = a;
+        q[4] = y;
+        q[5] = z;
+        q[2] = Subproblem1(P2.w, s - P2.p, x - c2);
+        q[1] = Subproblem1(P1.w, x - c1, t - P1.p);
+        const Vector3d e = Across(P3.w);
+        q[3] = Subproblem1(P3.w, e, (Rot(P1.w, q[1]) * Rot(P2.w, q[2])).transpose() * P.linear() * e);
+        out.push_back(q);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<VectorXd> NominalInverseKinematics::Impl::Branches(const Isometry3d& T, bool* degenerate) const {
+  *degenerate = false;
+  if (kind == Kind::kNumeric) return {};
+  const Isometry3d M = (reversed ? T.inverse() : T) * T0.inverse();
+  std::vector<VectorXd> out = kind == Kind::kPieper ? PieperBranches(M, degenerate) : ParallelBranches(M, degenerate);
+  if (reversed) {
+    for (VectorXd& q : out) q.reverseInPlace();
+  }
+  return out;
+}
+
+void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const {
+  const KinematicModel& model = robot.model();
+  Vector6d e = PoseError(model.ForwardKinematics(*q), T);
+  double cost = e.squaredNorm();
+  for (int it = 0; it < 8 && cost > 1e-28; ++it) {
+    const Matrix6Xd J = model.JointJacobian(*q);
+    Eigen::MatrixXd H = J.transpose() * J;
+    H.diagonal().array() += 1e-14 * std::max(1.0, H.diagonal().maxCoeff());
+    const VectorXd step = H.ldlt().solve(J.transpose() * e);
+    if (!step.allFinite()) break;
+    const VectorXd trial = *q + step;
+    const Vector6d e_trial = PoseError(model.ForwardKinematics(trial), T);
+    if (!(e_trial.squaredNorm() < cost)) break;
+    *q = trial;
+    e = e_trial;
+    cost = e.squaredNorm();
+  }
+  *pe = e.head<3>().norm();
+  *oe = e.tail<3>().norm();
+}
+
+bool NominalInverseKinematics::Impl::WrapIntoLimits(const VectorXd& reference, VectorXd* q) const {
+  bool inside = true;
+  for (int j = 0; j < n; ++j) {
+    const auto [low, high] = robot.Limit(j);
+    double& v = (*q)[j];
+    if (robot.model().joint_type(j) == JointType::kRevolute) {
+      // The representative v + 2 pi k inside [low, high] closest to the reference, else the one
+      // closest to the interval.
+      const double slack = 1e-12;
+      const double k_low = std::ceil((low - slack - v) / (2 * M_PI)), k_high = std::floor((high + slack - v) / (2 * M_PI));
+      if (k_low <= k_high) {
+        const double k_ref = std::clamp(std::round((reference[j] - v) / (2 * M_PI)), k_low, k_high);
+        v += 2 * M_PI * k_ref;
+        v = std::clamp(v, low, high);
+        continue;
+      }
+      const double below = v + 2 * M_PI * (k_low - 1), above = v + 2 * M_PI * k_low;
+      v = (low - below) < (above - high) ? below : above;
+    }
+    inside = inside && v >= low && v <= high;
+  }
+  return inside;
+}
+
+bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
+  const Matrix6Xd J = robot.model().JointJacobian(q);
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
+  return J.cols() < 6 || s[s.size() - 1] < options.singular_ratio * s[0];
+}
+
+bool NominalInverseKinematics::Impl::MatchesConfiguration(const VectorXd& q) const {
+  for (size_t j = 0; j < options.configuration.size(); ++j) {
+    const double v = WrapAngle(q[j]);
+    if ((options.configuration[j] > 0 && v < 0) || (options.configuration[j] < 0 && v > 0)) return false;
+  }
+  return true;
+}
+
+IkSolution NominalInverseKinematics::Impl::Numeric(const Isometry3d& T, bool orientation,
+                                                   const VectorXd& reference) const {
+  const InverseKinematicsResult r = SolveInverseKinematics(robot, T, orientation, reference, options.numeric);
+  IkSolution s;
+  s.q = r.q.allFinite() ? r.q : reference;
+  s.position_error = std::isfinite(r.position_error) ? r.position_error : INFINITY;
+  s.orientation_error = std::isfinite(r.orientation_error) ? r.orientation_error : INFINITY;
+  const bool reached = s.position_error <= options.position_tolerance &&
+                       (!orientation || s.orientation_error <= options.orientation_tolerance);
+  if (!reached) {
+    s.status = orientation && Singular(s.q) ? IkStatus::kSingular : IkStatus::kUnreachable;
+  } else {
+    VectorXd q = s.q;
+    const bool inside = WrapIntoLimits(reference, &q);
+    s.q = q;
+    s.status = !inside ? IkStatus::kOutOfLimits : (orientation && Singular(q)) ? IkStatus::kSingular : IkStatus::kSolved;
+  }
+  return s;
+}
+
+NominalInverseKinematics::NominalInverseKinematics(const Robot& robot, const NominalIkOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("inverse kinematics: " + why);
+  if (!robot.has_model()) throw std::invalid_argument("inverse kinematics: the robot has no model");
+  impl_->robot = robot;
+  impl_->options = options;
+  impl_->n = robot.dof();
+  if (!options.configuration.empty() && static_cast<int>(options.configuration.size()) != impl_->n) {
+    throw std::invalid_argument("inverse kinematics: configuration needs one sign per joint");
+  }
+  impl_->middle.resize(impl_->n);
+  for (int j = 0; j < impl_->n; ++j) {
+    const auto [low, high] = robot.Limit(j);
+    impl_->middle[j] = 0.5 * (low + high);
+  }
+  impl_->Detect();
+}
+
+NominalInverseKinematics::~NominalInverseKinematics() = default;
+
+std::string NominalInverseKinematics::method() const {
+  const int a = impl_->reversed ? impl_->n - impl_->first - 2 : impl_->first + 1;
+  const std::string joints = std::to_string(a) + "," + std::to_string(a + 1) + "," + std::to_string(a + 2) + ")";
+  switch (impl_->kind) {
+    case Impl::Kind::kPieper: return "pieper(" + joints;
+    case Impl::Kind::kParallel: return "parallel(" + joints;
+    case Impl::Kind::kNumeric: break;
+  }
+  return "numeric";
+}
+
+bool NominalInverseKinematics::has_closed_form() const { return impl_->kind != Impl::Kind::kNumeric; }
+
+std::vector<IkSolution> NominalInverseKinematics::AllBranches(const Isometry3d& T, const VectorXd& reference) const {
+  const Impl& m = *impl_;
+  const VectorXd ref = reference.size() == m.n ? reference : m.middle;
+  bool degenerate = false;
+  std::vector<IkSolution> out;
+  const std::vector<VectorXd> branches = m.Branches(T, &degenerate);
+  for (size_t b = 0; b < branches.size(); ++b) {
+    IkSolution s;
+    s.q = branches[b];
+    s.branch = static_cast<int>(b);
+    s.closed_form = true;
+    m.Polish(T, &s.q, &s.position_error, &s.orientation_error);
+    if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance)) continue;
+    const bool inside = m.WrapIntoLimits(ref, &s.q);
+    s.status = !inside ? IkStatus::kOutOfLimits : m.Singular(s.q) ? IkStatus::kSingular : IkStatus::kSolved;
+    bool duplicate = false;
+    for (const IkSolution& o : out) {
+      VectorXd d = o.q - s.q;
+      for (int j = 0; j < m.n; ++j) d[j] = WrapAngle(d[j]);
+      duplicate = duplicate || d.cwiseAbs().maxCoeff() < 1e-6;
+    }
+    if (!duplicate) out.push_back(s);
+  }
+  return out;
+}
+
+IkSolution NominalInverseKinematics::Solve(const Isometry3d& T, const VectorXd& reference) const {
+  const Impl& m = *impl_;
+  const VectorXd ref = reference.size() == m.n && reference.allFinite() ? reference : m.middle;
+  bool degenerate = false;
+  std::vector<VectorXd> branches = m.Branches(T, &degenerate);
+  // Rank: inside the limits, then the named configuration, then the distance to the reference.
+  struct Candidate {
+    int rank;
+    double distance;
+    int branch;
+    VectorXd q;
+  };
+  std::vector<Candidate> candidates;
+  for (size_t b = 0; b < branches.size(); ++b) {
+    VectorXd q = branches[b];
+    if (!q.allFinite()) continue;
+    const bool inside = m.WrapIntoLimits(ref, &q);
+    const int rank = (inside ? 0 : 2) + (m.MatchesConfiguration(q) ? 0 : 1);
+    candidates.push_back({rank, (q - ref).squaredNorm(), static_cast<int>(b), q});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.rank != b.rank ? a.rank < b.rank : a.distance < b.distance;
+  });
+  for (Candidate& c : candidates) {
+    IkSolution s;
+    s.q = c.q;
+    s.branch = c.branch;
+    s.closed_form = true;
+    m.Polish(T, &s.q, &s.position_error, &s.orientation_error);
+    if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance)) continue;
+    const bool inside = m.WrapIntoLimits(ref, &s.q);
+    s.status = !inside ? IkStatus::kOutOfLimits : m.Singular(s.q) ? IkStatus::kSingular : IkStatus::kSolved;
+    return s;
+  }
+  // No closed form, a degenerate pose (a continuum of solutions) or rounding at its edge: numeric.
+  return m.Numeric(T, true, ref);
+}
+
+IkSolution NominalInverseKinematics::SolvePosition(const Vector3d& p, const VectorXd& reference) const {
+  const Impl& m = *impl_;
+  const VectorXd ref = reference.size() == m.n && reference.allFinite() ? reference : m.middle;
+  Isometry3d T = Isometry3d::Identity();
+  T.translation() = p;
+  return m.Numeric(T, false, ref);
+}
+
+}  // namespace kincal

@@ -1,0 +1,143 @@
+// The promise about bad input, from the command line (docs/RELIABILITY.md): whatever a file holds, kincal
+// exits with status 0 or 2, and 2 comes with one line on stderr that names the file and, where there is
+// one, the line and column. Each case here was an escape (exit status 1, or a message without the file)
+// before issue 10, or is a shape of damage files really have: truncated, binary, wrong encoding.
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/test_util.h"
+
+namespace kincal {
+namespace {
+
+using testing::RunKincal;
+using testing::SourcePath;
+using testing::TempDir;
+using testing::WriteText;
+
+std::string Example(const std::string& file) { return SourcePath("examples/robots/" + file); }
+
+int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+// Exit status 2, one line, starting with "kincal: FILE" (then ":LINE:COLUMN" when `where` is given).
+void ExpectBadInput(const std::string& arguments, const std::string& file, const std::string& where = "") {
+  const auto r = RunKincal(arguments);
+  EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.err;
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("kincal: " + file + where, 0), 0u) << "expected 'kincal: " << file << where << "...', got: " << r.err;
+}
+
+const char* kSixJointHeader = "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm\n";
+
+TEST(BadInput, AColumnIndexBeyondIntIsAnUnknownColumnAtItsPlace) {
+  // Issue 10's report: this header ended kincal with exit status 1 and "kincal: error: stoi".
+  TempDir dir;
+  const std::string data = dir.path("data.csv");
+  WriteText(data, "q1_deg,q99999999999999999999_deg,x_mm,y_mm,z_mm\n1,2,3,4,5\n");
+  ExpectBadInput("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                     " --method none --out " + dir.path("out.yaml"),
+                 data, ":1:8: unknown column 'q99999999999999999999_deg'");
+  const std::string targets = dir.path("targets.csv");
+  WriteText(targets, "x_mm,y_mm,z_mm,q99999999999999999999_deg\n1,2,3,4\n");
+  ExpectBadInput("compensate --nominal " + Example("seed_nominal.yaml") + " --identified " +
+                     Example("seed_identified.yaml") + " --targets " + targets + " --method none --out " +
+                     dir.path("out.csv"),
+                 targets, ":1:16:");
+}
+
+TEST(BadInput, DamagedDatasetsEndInStatusTwoNamingFileLineAndColumn) {
+  TempDir dir;
+  const std::string data = dir.path("data.csv");
+  const std::string identify = "identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                               " --method least_squares --out " + dir.path("out.yaml");
+  struct Case {
+    std::string text, where;
+  };
+  const std::vector<Case> cases = {
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n0,0,0,0,0,0,1,2\n", ":3:1:"},          // truncated row
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1e400,2,3\n", ":2:13:"},                    // overflows double
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,nan,2,3\n", ":2:13:"},                      // NaN
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,\xff\xfe,2,3\n", ":2:13:"},                 // not UTF-8
+      {std::string("\x00\x01\x02", 3) + "binary", ":1:1:"},                                  // binary
+      {"q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,sweep\n0,0,0,0,0,0,1,2,3,99999999999\n", ":2:"},
+      {"q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,enc1,enc2,enc3,enc4,enc5,enc6\n"
+       "0,0,0,0,0,0,1,2,3,1e300,0,0,0,0,0\n", ":2:"},
+      {"", ":1:1:"},                                                                          // empty
+  };
+  for (const Case& c : cases) {
+    WriteText(data, c.text);
+    ExpectBadInput(identify, data, c.where);
+  }
+}
+
+TEST(BadInput, DamagedRobotFilesEndInStatusTwoNamingFileAndLine) {
+  TempDir dir;
+  const std::string robot = dir.path("robot.yaml");
+  const std::vector<std::string> cases = {
+      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints:\n  - {alpha: 1e400, a: 0, theta: 0, d: 0}\n",
+      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: [\n",         // truncated YAML
+      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: &a [*a]\n",    // alias loop
+      std::string("\xef\xbb\xbf\0\0binary", 11),
+  };
+  for (const std::string& text : cases) {
+    WriteText(robot, text);
+    ExpectBadInput("fk " + robot + " --q=0", robot);
+  }
+  // Legal numbers at the edges: accepted (status 0, finite output) or refused (status 2, one line).
+  for (const std::string value : {"1e300", "4.9e-324", "-1e300"}) {
+    WriteText(robot, "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints:\n  - {alpha: 0, a: " + value +
+                         ", theta: 0, d: 0}\ndrives: {ratio: [" + value + "], counts_per_rev: [" + value + "]}\n");
+    const auto r = RunKincal("fk " + robot + " --q=" + value);
+    if (r.exit_code == 0) {
+      EXPECT_EQ(r.out.find("null"), std::string::npos) << r.out;  // JSON writes NaN as null
+    } else {
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_EQ(LineCount(r.err), 1) << r.err;
+      EXPECT_EQ(r.err.rfind("kincal: " + robot, 0), 0u) << r.err;
+    }
+  }
+}
+
+TEST(BadInput, InvalidOptionsNameTheOptionsFile) {
+  TempDir dir;
+  const std::string options = dir.path("options.yaml");
+  const std::string data = dir.path("data.csv");
+  WriteText(data, std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n");
+  for (const std::string& text : {std::string("max_iterations: 1e300\n"), std::string("no_such_option: 1\n"),
+                                  std::string("max_iterations: [1, 2]\n"), std::string("[1, 2]\n")}) {
+    WriteText(options, text);
+    ExpectBadInput("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                       " --method least_squares --options " + options + " --out " + dir.path("out.yaml"),
+                   options);
+  }
+  WriteText(options, "max_iterations: -1e300\n");
+  WriteText(dir.path("targets.csv"), "x_mm,y_mm,z_mm\n400,0,500\n");
+  ExpectBadInput("compensate --nominal " + Example("seed_nominal.yaml") + " --identified " +
+                     Example("seed_identified.yaml") + " --targets " + dir.path("targets.csv") +
+                     " --method jacobian --options " + options + " --out " + dir.path("out.csv"),
+                 options);
+}
+
+TEST(BadInput, AMissingOrUnreadableFileIsStatusTwo) {
+  TempDir dir;
+  ExpectBadInput("fk " + dir.path("missing.yaml") + " --q=0", dir.path("missing.yaml"));
+  ExpectBadInput("fk " + dir.path("") + " --q=0", dir.path(""));  // a folder, not a file
+}
+
+TEST(BadInput, ADeviceWithoutEndIsRefusedBeforeTheMemoryRunsOut) {
+  if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
+  ::setenv("KINCAL_MEMORY_LIMIT_MB", "200", 1);  // reads stop at half of it
+  const auto r = RunKincal("fk /dev/zero --q=0");
+  ::unsetenv("KINCAL_MEMORY_LIMIT_MB");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(LineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("kincal: /dev/zero: more than 104 MB and still not at its end"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace kincal
