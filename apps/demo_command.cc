@@ -41,6 +41,7 @@ void AddDemoCommand(CLI::App& app) {
     options.threads = a->threads;
     options.progress = &std::cerr;
     options.interactive = StderrIsTerminal();
+    options.journal = false;  // a demo rerun with other options overwrites; `kincal study` resumes
     RunStudy(study, a->out, options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << DemoSummary(a->out);

@@ -109,6 +109,7 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   if (result.q_actual.size() != n || !result.q_actual.allFinite()) {
     result.q_actual = seed;
     result.report.status = CompensationStatus::kFailed;
+    result.report.non_finite = true;
     result.report.message = "the method produced no finite solution; the seed is returned";
   }
   const Eigen::Isometry3d T = identified_.model().ForwardKinematics(result.q_actual);

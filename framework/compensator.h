@@ -38,6 +38,7 @@ struct CompensationReport {
   double position_error = NAN;     // m, identified FK of q_actual against the target
   double orientation_error = NAN;  // rad (0 for position-only targets)
   bool seed_computed = false;      // the target had no seed: nominal inverse kinematics was solved
+  bool non_finite = false;         // the method returned a non-finite solution (replaced by the seed)
   double wall_time_seconds = 0.0;
   // Per iteration (the convergence plot): errors before the first step and after each step.
   std::vector<double> position_history;

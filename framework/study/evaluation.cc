@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
 
@@ -130,6 +131,33 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
     }
   }
   return rows;
+}
+
+// The names of the identified robot's parameters that are not finite ("" when all are).
+std::string NonFiniteParameters(const Robot& robot) {
+  std::string names;
+  const KinematicModel& m = robot.model();
+  const Eigen::VectorXd p = m.Parameters();
+  for (int i = 0; i < p.size(); ++i) {
+    if (!std::isfinite(p[i])) names += (names.empty() ? "" : ", ") + m.parameter_info()[i].name;
+  }
+  if (robot.drives) {
+    for (int j = 0; j < robot.drives->ratio.size(); ++j) {
+      if (!std::isfinite(robot.drives->ratio[j])) names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
+    }
+  }
+  return names;
+}
+
+// The message of the exception being handled, whatever its type.
+std::string CurrentExceptionText() {
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
 }
 
 std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& test, const PredictionErrors& e) {
@@ -277,7 +305,19 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
   return all.SelectRows(train_rows);
 }
 
+// Issue 10: a method that throws (anything) or returns non-finite numbers fails its work item (or, for a
+// compensator, its rows) with the reason as the note; the study goes on.
 ItemResult StudyEvaluator::Run(const WorkItem& item) const {
+  try {
+    return RunOrFail(item, "");
+  } catch (const std::exception& e) {
+    return RunOrFail(item, std::string("work item failed: ") + e.what());
+  } catch (...) {
+    return RunOrFail(item, "work item failed: an exception that is not a std::exception");
+  }
+}
+
+ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& failure) const {
   ItemResult result;
   result.item = item;
   const DatasetVariant& variant = variants_[item.variant];
@@ -288,10 +328,13 @@ ItemResult StudyEvaluator::Run(const WorkItem& item) const {
   Dataset test;
   std::vector<EstimationReport> reports;
   Robot identified = d.nominal;
+  std::string method;  // the estimator running, for the note of a failure
   try {
+    if (!failure.empty()) throw std::runtime_error(failure);
     const Dataset train = TrainingData(item, &test);
     double seconds = 0.0;
     for (size_t i = 0; i < pipeline.methods.size(); ++i) {
+      method = pipeline.methods[i];
       const bool placement = !spec.simulated && pipeline.methods[i] == "none";
       const auto estimator = placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
                                        : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
@@ -299,7 +342,10 @@ ItemResult StudyEvaluator::Run(const WorkItem& item) const {
       reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
       seconds += reports.back().wall_time_seconds;
       identified = std::move(next);
+      const std::string non_finite = NonFiniteParameters(identified);
+      if (!non_finite.empty()) throw std::runtime_error("returned non-finite parameters (" + non_finite + ")");
     }
+    method.clear();
     result.identify_seconds = seconds;
     result.estimation_status = WorstStatus(reports);
     for (const auto& r : reports) {
@@ -309,15 +355,19 @@ ItemResult StudyEvaluator::Run(const WorkItem& item) const {
       }
       if (!why.empty()) result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
     }
-  } catch (const std::exception& e) {
+  } catch (...) {
     result.estimation_status = "error";
-    result.estimation_note = e.what();
+    result.estimation_note = (method.empty() ? "" : "estimator " + method + ": ") + CurrentExceptionText();
   }
   if (result.estimation_status != "error") {
     result.parameters = Parameters(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
   }
   std::string status = "ok";
-  if (result.estimation_status != "converged") status = "estimate_" + result.estimation_status;
+  if (result.estimation_status == "error") {
+    status = "failed";
+  } else if (result.estimation_status != "converged") {
+    status = "estimate_" + result.estimation_status;
+  }
 
   if (!spec.simulated) {
     EvaluationRow row;
@@ -410,6 +460,10 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
           goal.seed = target.q_nominal;
           goal.previous_command = previous_command;
           CompensationResult r = compensator->Compensate(goal);
+          if (r.report.non_finite) {
+            throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
+                                     spec.name);
+          }
           seconds += r.report.wall_time_seconds;
           if (r.report.status == CompensationStatus::kConverged) ++row.converged;
           const Eigen::VectorXd q_truth =
@@ -443,14 +497,15 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
           row.note = std::to_string(row.converged) + " of " + std::to_string(row.targets) + " targets converged";
         }
       }
-    } catch (const std::exception& e) {
+    } catch (...) {
+      const std::string reason = "compensator " + c.method + ": " + CurrentExceptionText();
       for (auto& row : rows) {
         EvaluationRow failed;
         failed.compensator = c.name;
         failed.validation = row.validation;
         row = failed;
-        row.status = "compensator_error";
-        row.note = e.what();
+        row.status = "failed";
+        row.note = reason;
       }
     }
     for (auto& row : rows) result->rows.push_back(std::move(row));

@@ -51,8 +51,9 @@ struct EvaluationRow {
   int converged = 0;  // compensations that reported convergence
   ErrorSummary position;
   ErrorSummary orientation;
-  std::string status;  // ok, estimate_iteration_limit, estimate_failed, estimate_error, estimate_at_bounds,
-                       // compensator_error, compensation_partial
+  std::string status;  // ok, estimate_iteration_limit, estimate_failed, estimate_at_bounds, compensation_partial,
+                       // or failed: no scores, the estimator or compensator threw or returned non-finite numbers
+                       // (note: why)
   std::string note;
   double compensate_seconds_per_target = NAN;
   std::vector<ConvergencePoint> convergence;  // the study's first random validation set only
@@ -108,6 +109,8 @@ class StudyEvaluator {
     std::vector<std::vector<ValidationTarget>> targets;  // per validation set
     std::vector<bool> orientation;                       // per validation set
   };
+  // Run, with every method failure caught; a non-empty `failure` fails the item without running anything.
+  ItemResult RunOrFail(const WorkItem& item, const std::string& failure) const;
   Dataset TrainingData(const WorkItem& item, Dataset* test) const;
   void Evaluate(const WorkItem& item, const PreparedDataset& d, const Robot& identified, const std::string& status,
                 const std::string& note, ItemResult* result) const;

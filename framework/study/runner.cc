@@ -5,11 +5,14 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <thread>
 
 #include "framework/error.h"
 #include "framework/study/evaluation.h"
+#include "framework/study/journal.h"
 #include "framework/study/progress.h"
 #include "framework/study/report.h"
 #include "framework/study/results_files.h"
@@ -44,34 +47,74 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   if (!options.IsValid(&why)) ThrowInputError("study: " + why);
   const auto t0 = std::chrono::steady_clock::now();
   const StudyEvaluator evaluator(study, registries);
+  const int num_items = static_cast<int>(evaluator.items().size());
 
   std::vector<WorkItem> mine;
   for (const WorkItem& w : evaluator.items()) {
     if (w.index % options.shard_count == options.shard_index - 1) mine.push_back(w);
   }
+  std::unique_ptr<StudyJournal> journal;
+  if (options.journal) {
+    journal = std::make_unique<StudyJournal>(
+        out_dir, StudyFingerprint(study, options.shard_index, options.shard_count), num_items);
+  }
+  // Each item's rows of the five tables, in the order of `mine`: from the journal or computed now.
+  std::vector<StudyTables> rows(mine.size());
+  std::vector<size_t> todo;
+  StudyRunSummary summary;
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const auto recorded = journal ? journal->recorded().find(mine[k].index) : std::map<int, StudyTables>::const_iterator();
+    if (journal && recorded != journal->recorded().end()) {
+      rows[k] = recorded->second;
+      ++summary.items_resumed;
+    } else {
+      todo.push_back(k);
+    }
+  }
+  if (journal && summary.items_resumed != static_cast<int>(journal->recorded().size())) {
+    ThrowInputError(journal->path() + ": holds work items that are not in shard " + std::to_string(options.shard_index) +
+                    "/" + std::to_string(options.shard_count));
+  }
+
   int threads = options.threads > 0 ? options.threads : study.threads;
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(todo.size())));
 
   std::string what = "work items";
   if (options.shard_count > 1) what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
-  ProgressReporter progress(options.progress, options.interactive, static_cast<int>(mine.size()), what);
-  std::vector<ItemResult> results(mine.size());
+  if (options.progress && summary.items_resumed > 0) {
+    *options.progress << "resuming: " << summary.items_resumed << " of " << mine.size() << " " << what
+                      << " already done (" << journal->path() << ")\n";
+  }
+  if (options.progress && journal && journal->discarded_bytes() > 0) {
+    *options.progress << "discarded the torn last record of " << journal->path() << " (" << journal->discarded_bytes()
+                      << " bytes): that item runs again\n";
+  }
+  ProgressReporter progress(options.progress, options.interactive, static_cast<int>(todo.size()), what);
   std::atomic<size_t> next{0};
+  std::atomic<int> finished{0};
+  std::atomic<bool> stopped{false};
   std::exception_ptr failure;
   std::mutex failure_mutex;
   const auto worker = [&]() {
     while (true) {
+      if (options.stop_requested && options.stop_requested()) {
+        stopped = true;
+        return;
+      }
       const size_t k = next.fetch_add(1);
-      if (k >= mine.size()) return;
+      if (k >= todo.size()) return;
       try {
-        results[k] = evaluator.Run(mine[k]);
+        const ItemResult result = evaluator.Run(mine[todo[k]]);  // never throws for a method's failure
+        rows[todo[k]] = MakeStudyTables(study, evaluator.variants(), {result});
+        if (journal) journal->Append(mine[todo[k]].index, rows[todo[k]]);
       } catch (...) {
         std::lock_guard<std::mutex> lock(failure_mutex);
         if (!failure) failure = std::current_exception();
-        next = mine.size();
+        next = todo.size();
         return;
       }
+      ++finished;
       progress.Done();
     }
   };
@@ -82,17 +125,27 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   progress.Finish();
   if (failure) std::rethrow_exception(failure);
 
-  const nlohmann::json manifest =
-      StudyManifest(study, evaluator.variants(), static_cast<int>(evaluator.items().size()));
-  const StudyTables tables = MakeStudyTables(study, evaluator.variants(), results);
-  WriteStudyFiles(out_dir, manifest, std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count),
-                  tables);
-  if (options.shard_count == 1 && options.write_report) WriteReport(out_dir);
-
-  StudyRunSummary summary;
-  summary.items_total = static_cast<int>(evaluator.items().size());
+  summary.items_total = num_items;
   summary.items_run = static_cast<int>(mine.size());
+  summary.items_finished = finished;
+  summary.journal_discarded_bytes = journal ? journal->discarded_bytes() : 0;
   summary.threads = threads;
+  summary.stopped = stopped && summary.items_resumed + summary.items_finished < summary.items_run;
+  if (!summary.stopped) {
+    // The tables of an uninterrupted run: its headers, then every item's rows in item order.
+    StudyTables tables = MakeStudyTables(study, evaluator.variants(), {});
+    ResultTable* to[] = {&tables.results, &tables.timings, &tables.parameters, &tables.convergence, &tables.iso9283};
+    for (StudyTables& item : rows) {
+      ResultTable* from[] = {&item.results, &item.timings, &item.parameters, &item.convergence, &item.iso9283};
+      for (int f = 0; f < 5; ++f) {
+        for (auto& row : from[f]->rows) to[f]->rows.push_back(std::move(row));
+      }
+    }
+    const nlohmann::json manifest = StudyManifest(study, evaluator.variants(), num_items);
+    WriteStudyFiles(out_dir, manifest,
+                    std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count), tables);
+    if (options.shard_count == 1 && options.write_report) WriteReport(out_dir);
+  }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return summary;
 }

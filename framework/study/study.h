@@ -157,6 +157,7 @@ struct Study {
   std::string name;
   std::string description;
   std::string source;                     // the study file, for messages
+  uint64_t text_hash = 0;                 // HashLabel of the study file's text (journal fingerprints)
   uint64_t seed = 1;
   int trials = 1;
   int threads = 0;

@@ -514,6 +514,7 @@ Study ParseStudy(const std::string& text, const std::string& source_path, const 
                          "compensators", "validation"});
   Study s;
   s.source = source_path;
+  s.text_hash = HashLabel(text);
   if (!root["name"]) r.Fail(root, "name", "missing key (the study's name)");
   s.name = r.String(root["name"], "name");
   if (root["description"]) s.description = r.String(root["description"], "description");

@@ -198,13 +198,13 @@ TEST_F(StudyRunTest, AnEstimatorThatThrowsGivesAStatusNotACrash) {
   const auto rows = Rows(tmp.path("r"), "sweep", "throws", "jacobian_ik", "targets");
   ASSERT_EQ(rows.size(), 2u);
   for (auto row : rows) {
-    EXPECT_EQ(row["status"], "estimate_error");
+    EXPECT_EQ(row["status"], "failed");
     EXPECT_EQ(row["estimation_status"], "error");
     EXPECT_NE(row["note"].find("never gets"), std::string::npos);
     EXPECT_EQ(row["position_error_mean_mm"], "");
   }
   const std::string report = ReadText(tmp.path("r") + "/report.md");
-  EXPECT_NE(report.find("2 estimate_error"), std::string::npos);
+  EXPECT_NE(report.find("2 failed"), std::string::npos);
 }
 
 TEST_F(StudyRunTest, ReportLinksPlotsThatArePaperFigures) {

@@ -58,6 +58,41 @@ class ThrowingEstimator final : public Estimator {
   }
 };
 
+// Returns a robot with a NaN parameter, as a solver that diverged without noticing would (issue 10).
+class NanEstimator final : public Estimator {
+ public:
+  std::string name() const override { return "nan"; }
+
+ private:
+  void DoEstimate(const Robot& start, const Robot&, const Dataset&, Robot* identified, EstimationReport* report) const override {
+    Eigen::VectorXd p = start.model().Parameters();
+    p[0] = NAN;
+    identified->model().SetParameters(p);
+    report->status = EstimationStatus::kConverged;
+  }
+};
+
+// Throws something that is not a std::exception.
+class ThrowingCompensator final : public Compensator {
+ public:
+  std::string name() const override { return "throws"; }
+
+ private:
+  void DoCompensate(const CompensationTarget&, const Eigen::VectorXd&, CompensationResult*) const override { throw 42; }
+};
+
+// Returns NaN joint angles.
+class NanCompensator final : public Compensator {
+ public:
+  std::string name() const override { return "nan"; }
+
+ private:
+  void DoCompensate(const CompensationTarget&, const Eigen::VectorXd& seed, CompensationResult* result) const override {
+    result->q_actual = Eigen::VectorXd::Constant(seed.size(), NAN);
+    result->report.status = CompensationStatus::kConverged;
+  }
+};
+
 class OracleEstimator final : public Estimator {
  public:
   explicit OracleEstimator(Robot truth) : truth_(std::move(truth)) {}
@@ -105,7 +140,7 @@ class JacobianIkCompensator final : public Compensator {
 
 }  // namespace
 
-TestRegistries MakeTestRegistries(const Robot& truth) {
+TestRegistries MakeTestRegistries(const Robot& truth, bool with_failures) {
   TestRegistries r;
   r.estimators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
                            return std::make_unique<NoneEstimator>(NoneEstimator::Options::FromYaml(o));
@@ -125,6 +160,23 @@ TestRegistries MakeTestRegistries(const Robot& truth) {
                            OptionsReader(o, "throws").Finish();
                            return std::make_unique<ThrowingEstimator>();
                          }, true, ""});
+  if (with_failures) {
+  r.estimators.Register({"nan", "test double: returns a NaN parameter",
+                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                           OptionsReader(o, "nan").Finish();
+                           return std::make_unique<NanEstimator>();
+                         }, true, ""});
+  r.compensators.Register({"throws", "test double: throws an int",
+                           [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+                             OptionsReader(o, "throws").Finish();
+                             return std::make_unique<ThrowingCompensator>();
+                           }, true, ""});
+  r.compensators.Register({"nan", "test double: returns NaN joint angles",
+                           [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+                             OptionsReader(o, "nan").Finish();
+                             return std::make_unique<NanCompensator>();
+                           }, true, ""});
+  }
   r.compensators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
                              return std::make_unique<NoneCompensator>(NoneCompensator::Options::FromYaml(o));
                            }, true, ""});

@@ -4,9 +4,10 @@
 // can be run in this branch, whatever the library registers.
 //   estimators:   none (the library's), base_kabsch (fits the base transform only, Kabsch/Umeyama on the
 //                 predicted and measured marker positions), oracle (returns the truth robot it was given),
-//                 throws (always throws, like an estimator given data it cannot use)
+//                 throws (always throws, like an estimator given data it cannot use), nan (returns a NaN
+//                 parameter)
 //   compensators: none (the library's), jacobian_ik (damped Gauss-Newton on the identified robot, with the
-//                 convergence histories filled)
+//                 convergence histories filled), throws (throws an int), nan (returns NaN joint angles)
 #include "framework/compensator.h"
 #include "framework/estimator.h"
 #include "framework/study/study.h"
@@ -19,7 +20,8 @@ struct TestRegistries {
   MethodRegistries view() const { return {&estimators, &compensators}; }
 };
 
-// `truth` is what the oracle estimator returns.
-TestRegistries MakeTestRegistries(const Robot& truth);
+// `truth` is what the oracle estimator returns. The doubles that return NaN or throw from a compensator are
+// registered only `with_failures`.
+TestRegistries MakeTestRegistries(const Robot& truth, bool with_failures = false);
 
 }  // namespace kincal::testing
