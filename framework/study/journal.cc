@@ -51,17 +51,14 @@ void SyncFolder(const std::string& dir) {
   ::close(fd);
 }
 
-ResultTable* Table(StudyTables& t, int i) {
-  ResultTable* all[] = {&t.results, &t.timings, &t.parameters, &t.convergence, &t.iso9283};
-  return all[i];
-}
+ResultTable* Table(StudyTables& t, int i) { return t.All()[i]; }
 
 }  // namespace
 
 std::string EncodeJournalRows(const StudyTables& rows) {
   nlohmann::json j = nlohmann::json::array();
   StudyTables copy = rows;
-  for (int i = 0; i < 5; ++i) j.push_back(Table(copy, i)->rows);
+  for (int i = 0; i < StudyTables::kCount; ++i) j.push_back(Table(copy, i)->rows);
   return j.dump();  // one line: strings escape their control characters
 }
 
@@ -69,8 +66,10 @@ StudyTables DecodeJournalRows(const std::string& payload) {
   StudyTables t;
   try {
     const nlohmann::json j = nlohmann::json::parse(payload);
-    if (!j.is_array() || j.size() != 5) throw std::invalid_argument("expected 5 tables");
-    for (int i = 0; i < 5; ++i) Table(t, i)->rows = j[i].get<std::vector<std::vector<std::string>>>();
+    if (!j.is_array() || j.size() != StudyTables::kCount) {
+      throw std::invalid_argument("expected " + std::to_string(StudyTables::kCount) + " tables");
+    }
+    for (int i = 0; i < StudyTables::kCount; ++i) Table(t, i)->rows = j[i].get<std::vector<std::vector<std::string>>>();
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(e.what());
   }
@@ -84,6 +83,7 @@ std::string StudyFingerprint(const Study& study, int shard_index, int shard_coun
   if (study.truth) text += RobotToYaml(study.truth->robot) + "\n";
   for (const DatasetSpec& d : study.datasets) {
     if (!d.simulated) text += Hex(HashLabel(ReadFileToString(d.file))) + "\n";
+    for (const auto& [marker, path] : d.position_tables) text += marker + " " + Hex(HashLabel(ReadFileToString(path))) + "\n";
   }
   return Hex(HashLabel(text)) + "/shard-" + std::to_string(shard_index) + "-of-" + std::to_string(shard_count);
 }

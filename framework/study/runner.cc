@@ -134,10 +134,10 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   if (!summary.stopped) {
     // The tables of an uninterrupted run: its headers, then every item's rows in item order.
     StudyTables tables = MakeStudyTables(study, evaluator.variants(), {});
-    ResultTable* to[] = {&tables.results, &tables.timings, &tables.parameters, &tables.convergence, &tables.iso9283};
+    const auto to = tables.All();
     for (StudyTables& item : rows) {
-      ResultTable* from[] = {&item.results, &item.timings, &item.parameters, &item.convergence, &item.iso9283};
-      for (int f = 0; f < 5; ++f) {
+      const auto from = item.All();
+      for (int f = 0; f < StudyTables::kCount; ++f) {
         for (auto& row : from[f]->rows) to[f]->rows.push_back(std::move(row));
       }
     }
