@@ -74,6 +74,7 @@ void AddCompensateCommand(CLI::App& app) {
     const Unit length = data.length_unit;
     const double deg = M_PI / 180.0;
     std::map<std::string, int> counts;
+    int branch_changes = 0;
     double max_position = 0.0, max_orientation = 0.0;
     // Rows are appended to one string with std::to_chars: the shortest text that reads back to the same
     // double, without a stream (20000 targets write 340000 numbers).
@@ -106,6 +107,7 @@ void AddCompensateCommand(CLI::App& app) {
       append(r.report.orientation_error / deg);
       out += r.report.seed_computed ? ",1\n" : ",0\n";
       ++counts[ToString(r.report.status)];
+      branch_changes += r.report.branch_changed;
       max_position = std::max(max_position, r.report.position_error);
       max_orientation = std::max(max_orientation, r.report.orientation_error);
     }
@@ -117,6 +119,7 @@ void AddCompensateCommand(CLI::App& app) {
       std::cout << (first ? "" : ", ") << count << " " << status;
       first = false;
     }
+    if (branch_changes) std::cout << "; " << branch_changes << " reached on another branch than the controller's";
     std::cout << "), max position error " << max_position / length.to_si << " " << length.name
               << ", max orientation error " << max_orientation / deg << " deg; wrote " << a->out << "\n"
               << "time: read " << seconds(t_start, t_read) << " s, prepare " << seconds(t_read, t_prepared)

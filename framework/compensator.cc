@@ -7,6 +7,7 @@
 #include "framework/nominal_ik.h"
 #include "framework/joint_readings.h"
 #include "framework/math.h"
+#include "framework/random.h"
 
 namespace kincal {
 
@@ -16,6 +17,7 @@ std::string ToString(CompensationStatus status) {
     case CompensationStatus::kIterationLimit: return "iteration_limit";
     case CompensationStatus::kSingular: return "singular";
     case CompensationStatus::kUnreachable: return "unreachable";
+    case CompensationStatus::kOutOfLimits: return "out_of_limits";
     case CompensationStatus::kFailed: return "failed";
   }
   return "unknown";
@@ -32,45 +34,137 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   }
   nominal_ = nominal;
   identified_ = identified;
-  nominal_ik_ = std::make_shared<const NominalInverseKinematics>(nominal_);
+  // The controller's solution is only a seed here: where the closed form has none (a target the nominal
+  // arm does not reach), one damped Newton run from the reference is enough, and the restarts that find
+  // the identified arm's solution are Restart()'s, on the arm that matters.
+  NominalIkOptions ik_options;
+  ik_options.numeric.restarts = 0;
+  nominal_ik_ = std::make_shared<const NominalInverseKinematics>(nominal_, ik_options);
   prepared_ = true;
   DoPrepare();
 }
 
-void Compensator::RestartFromBranches(const CompensationTarget& target, const Eigen::VectorXd& seed,
-                                      CompensationResult* result) const {
-  // Next to a singular configuration the identified arm's solution can lie on the other side of it, out
-  // of reach of an iteration from the seed (the branches of the nominal arm meet there, the identified
-  // arm's do not at the same place). The nominal arm's closed-form branches for the target moved by the
-  // pose error at the seed, T_nominal(seed) T_identified(seed)^-1 T_target (the pose whose nominal
-  // solution the identified arm puts at the target, to first order), are starts on every side; the
-  // nearest to the seed first.
-  const Eigen::Isometry3d T_shifted = nominal_.model().ForwardKinematics(seed) *
-                                      identified_.model().ForwardKinematics(seed).inverse() * target.T_meas_tool;
-  std::vector<IkSolution> starts = nominal_ik_->AllBranches(T_shifted, seed);
-  std::sort(starts.begin(), starts.end(), [&](const IkSolution& a, const IkSolution& b) {
-    return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
-  });
-  int iterations = result->report.iterations;
-  // Only the controller's branch counts: a solution farther than this from the seed in any joint is
-  // another configuration (the arm would turn over), not a compensation of this one.
-  constexpr double kSameBranch = 0.5;  // rad
-  for (const IkSolution& start : starts) {
-    if ((start.q - seed).cwiseAbs().maxCoeff() > kSameBranch) continue;
+bool BranchRestartOptions::IsValid(std::string* why) const {
+  if (!(same_branch_distance > 0) || !std::isfinite(same_branch_distance)) {
+    if (why) *why = "same_branch_distance must be a positive angle (rad)";
+    return false;
+  }
+  if (random_starts < 0 || random_starts > 100000) {
+    if (why) *why = "random_starts must be in 0..100000";
+    return false;
+  }
+  return true;
+}
+
+void BranchRestartOptions::Read(OptionsReader* reader) {
+  reader->Get("branch_restarts", &enabled);
+  reader->Get("same_branch_distance", &same_branch_distance);
+  reader->Get("other_branches", &other_branches);
+  reader->Get("random_starts", &random_starts);
+}
+
+namespace {
+
+double MaxJointDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
+
+// Moves revolute joints by whole turns towards `reference`, into the robot's limits where a turn does;
+// true when every joint ends inside its limits.
+bool WrapIntoLimits(const Robot& robot, const Eigen::VectorXd& reference, Eigen::VectorXd* q) {
+  bool inside = true;
+  for (int j = 0; j < q->size(); ++j) {
+    const auto [low, high] = robot.Limit(j);
+    double& v = (*q)[j];
+    if (robot.model().joint_type(j) == JointType::kRevolute) {
+      const double k_low = std::ceil((low - v) / (2 * M_PI)), k_high = std::floor((high - v) / (2 * M_PI));
+      if (k_low <= k_high) v += 2 * M_PI * std::clamp(std::round((reference[j] - v) / (2 * M_PI)), k_low, k_high);
+    }
+    inside = inside && v >= low && v <= high;
+  }
+  return inside;
+}
+
+}  // namespace
+
+void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorXd& seed,
+                          const BranchRestartOptions& options, CompensationResult* result) const {
+  const int n = identified_.dof();
+  int iterations = result->report.iterations, restarts = 0;
+  // A converged trial on the controller's branch ends the search; converged trials elsewhere inside the
+  // identified arm's limits are kept, and the one nearest the seed is taken when the branch is not found.
+  std::vector<CompensationResult> elsewhere;
+  const auto finish = [&](CompensationResult trial, const std::string& message, bool changed) {
+    trial.report.seed_computed = result->report.seed_computed;
+    trial.report.branch_changed = changed;
+    trial.report.message = message;
+    trial.report.restarts = restarts;
+    trial.report.total_iterations = iterations;
+    *result = std::move(trial);
+  };
+  // Runs the method from `start`; true when it reached the target on the controller's branch.
+  const auto attempt = [&](const Eigen::VectorXd& start, const std::string& from) {
     CompensationResult trial;
-    trial.q_actual = start.q;
-    DoCompensate(target, start.q, &trial);
+    trial.q_actual = start;
+    DoCompensate(target, start, &trial);
     iterations += trial.report.iterations;
-    if (trial.report.status == CompensationStatus::kConverged && trial.q_actual.allFinite() &&
-        (trial.q_actual - seed).cwiseAbs().maxCoeff() <= kSameBranch) {
-      trial.report.seed_computed = result->report.seed_computed;
-      trial.report.message = "converged from the nominal branch " + std::to_string(start.branch) +
-                             " of the target corrected by the pose error at the seed";
-      *result = std::move(trial);
-      break;
+    ++restarts;
+    if (trial.report.status != CompensationStatus::kConverged || !trial.q_actual.allFinite() ||
+        !WrapIntoLimits(identified_, seed, &trial.q_actual)) {
+      return false;
+    }
+    if (MaxJointDistance(trial.q_actual, seed) <= options.same_branch_distance) {
+      finish(std::move(trial), "converged from " + from, false);
+      return true;
+    }
+    trial.report.message = from;
+    elsewhere.push_back(std::move(trial));
+    return false;
+  };
+
+  // 1. The nominal arm's closed-form branches of the target moved by the pose error at the seed,
+  // T_nominal(seed) T_identified(seed)^-1 T_target (the pose whose nominal solution the identified arm
+  // puts at the target, to first order), then those of the target itself; the nearest to the seed first.
+  // Starts on the controller's branch are tried first, the others only when other branches are allowed.
+  if (nominal_ik_->has_closed_form() && target.has_orientation) {
+    const Eigen::Isometry3d T_shifted = nominal_.model().ForwardKinematics(seed) *
+                                        identified_.model().ForwardKinematics(seed).inverse() * target.T_meas_tool;
+    std::vector<IkSolution> starts = nominal_ik_->AllBranches(T_shifted, seed);
+    for (IkSolution& s : nominal_ik_->AllBranches(target.T_meas_tool, seed)) starts.push_back(std::move(s));
+    std::stable_sort(starts.begin(), starts.end(), [&](const IkSolution& a, const IkSolution& b) {
+      return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
+    });
+    for (int pass = 0; pass < (options.other_branches ? 2 : 1) && elsewhere.empty(); ++pass) {
+      for (const IkSolution& s : starts) {
+        if ((MaxJointDistance(s.q, seed) <= options.same_branch_distance) != (pass == 0)) continue;
+        if (attempt(s.q, "the nominal branch " + std::to_string(s.branch) + " of the target")) return;
+        if (pass == 1 && !elsewhere.empty()) break;
+      }
     }
   }
-  result->report.iterations = iterations;
+  // 2. Random starts (a fixed stream), while nothing was found.
+  Rng rng(0x6b696e63616cULL);
+  const int half = options.random_starts / 2;
+  for (int k = 0; k < options.random_starts && elsewhere.empty(); ++k) {
+    Eigen::VectorXd start(n);
+    const double spread = M_PI * (k + 1) / std::max(half, 1);
+    for (int j = 0; j < n; ++j) {
+      const auto [low, high] = identified_.Limit(j);
+      start[j] = k < half ? std::clamp(seed[j] + rng.Uniform(-spread, spread), low, high) : rng.Uniform(low, high);
+    }
+    if (attempt(start, "a random start")) return;
+  }
+  if (options.other_branches && !elsewhere.empty()) {
+    auto best = std::min_element(elsewhere.begin(), elsewhere.end(), [&](const auto& a, const auto& b) {
+      return (a.q_actual - seed).squaredNorm() < (b.q_actual - seed).squaredNorm();
+    });
+    const std::string from = best->report.message;
+    finish(std::move(*best),
+           "converged from " + from + " on another branch than the controller's: the identified arm does not "
+           "reach the target next to the nominal solution (a singular surface or a workspace fold lies between)",
+           true);
+    return;
+  }
+  result->report.restarts = restarts;
+  result->report.total_iterations = iterations;
 }
 
 CompensationResult Compensator::Compensate(const CompensationTarget& target) const {
@@ -102,9 +196,19 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   }
   result.q_actual = seed;
   DoCompensate(target, seed, &result);
-  if (result.report.status != CompensationStatus::kConverged && RestartsFromBranches() && target.has_orientation &&
-      nominal_ik_->has_closed_form() && result.q_actual.allFinite()) {
-    RestartFromBranches(target, seed, &result);
+  result.report.total_iterations = result.report.iterations;
+  // A solution counts only inside the joint limits (revolute joints moved by whole turns towards the seed).
+  const auto reached = [&] {
+    return result.report.status == CompensationStatus::kConverged && result.q_actual.allFinite() &&
+           WrapIntoLimits(identified_, seed, &result.q_actual);
+  };
+  const BranchRestartOptions* restarts = branch_restarts();
+  if (!reached() && restarts && restarts->enabled && result.q_actual.allFinite()) {
+    Restart(target, seed, *restarts, &result);
+  }
+  if (result.report.status == CompensationStatus::kConverged && !reached()) {
+    result.report.status = CompensationStatus::kOutOfLimits;
+    result.report.message = "reached only outside the identified arm's joint limits";
   }
   if (result.q_actual.size() != n || !result.q_actual.allFinite()) {
     result.q_actual = seed;

@@ -19,7 +19,9 @@ namespace kincal {
 
 class NominalInverseKinematics;
 
-enum class CompensationStatus { kConverged, kIterationLimit, kSingular, kUnreachable, kFailed };
+// kOutOfLimits: the target is reached, but only with joints outside the identified arm's limits (q_actual
+// is that solution, revolute joints moved by whole turns as near the limits as they go).
+enum class CompensationStatus { kConverged, kIterationLimit, kSingular, kUnreachable, kOutOfLimits, kFailed };
 std::string ToString(CompensationStatus status);
 
 struct CompensationTarget {
@@ -31,14 +33,43 @@ struct CompensationTarget {
   Eigen::VectorXd previous_command;
 };
 
+// How Compensate() retries a target that an iterative method does not reach from the seed. Next to a
+// singular configuration the identified arm's solution can lie on the other side of it (the nominal
+// arm's branches meet there, the identified arm's do not at the same place), or, next to a fold of the
+// nominal workspace, not exist on the controller's branch at all while another branch reaches it.
+struct BranchRestartOptions {
+  // Retry from the nominal arm's closed-form branches of the target and of the target moved by the pose
+  // error at the seed (every side of the singular surfaces), the starts nearest the seed first.
+  bool enabled = true;
+  // rad: a solution within this distance of the seed in every joint is the controller's configuration.
+  double same_branch_distance = 0.5;
+  // When no start reaches the target on the controller's branch, take a solution on another branch that
+  // lies inside the identified arm's joint limits (the one nearest the seed among those found); the
+  // report says so (branch_changed). false: such targets keep the best result on the controller's branch.
+  bool other_branches = true;
+  // Then, when neither the seed nor the branches reach the target (a target that the nominal arm does not
+  // reach at all, next to a fold of its workspace, gives no branches), starts drawn at random: the first
+  // half around the seed with a spread growing to pi, the rest uniform within the joint limits (TRAC-IK's
+  // random restarts). A fixed stream: the same target gives the same joints. 0: none.
+  int random_starts = 64;
+  bool IsValid(std::string* why) const;
+  // Reads the keys `branch_restarts` (enabled), `same_branch_distance`, `other_branches` and
+  // `random_starts` (the caller calls reader->Finish()).
+  void Read(OptionsReader* reader);
+};
+
 struct CompensationReport {
   CompensationStatus status = CompensationStatus::kFailed;
   std::string message;
-  int iterations = 0;
+  int iterations = 0;               // of the run that gave q_actual (the histories' length - 1)
+  int restarts = 0;                 // further starts tried after the seed (BranchRestartOptions)
+  int total_iterations = 0;         // over the seed's run and every restart
   double position_error = NAN;     // m, identified FK of q_actual against the target
   double orientation_error = NAN;  // rad (0 for position-only targets)
   bool seed_computed = false;      // the target had no seed: nominal inverse kinematics was solved
   bool non_finite = false;         // the method returned a non-finite solution (replaced by the seed)
+  // The target was reached on another branch than the controller's (BranchRestartOptions).
+  bool branch_changed = false;
   double wall_time_seconds = 0.0;
   // Per iteration (the convergence plot): errors before the first step and after each step.
   std::vector<double> position_history;
@@ -65,9 +96,10 @@ class Compensator {
  protected:
   const Robot& nominal() const { return nominal_; }
   const Robot& identified() const { return identified_; }
-  // Iterative methods return true: a target they do not reach from the seed is retried from the nominal
-  // arm's closed-form branches (RestartFromBranches). Default false (table lookups gain nothing).
-  virtual bool RestartsFromBranches() const { return false; }
+  // Iterative methods return their restart options: a target they do not reach from the seed is retried
+  // from the nominal arm's closed-form branches and random starts (Restart). Default none (table lookups
+  // gain nothing).
+  virtual const BranchRestartOptions* branch_restarts() const { return nullptr; }
 
  private:
   virtual void DoPrepare() {}
@@ -75,8 +107,9 @@ class Compensator {
   virtual void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                             CompensationResult* result) const = 0;
 
-  void RestartFromBranches(const CompensationTarget& target, const Eigen::VectorXd& seed,
-                           CompensationResult* result) const;
+  // Retries from the nominal closed-form branches, then from random starts (BranchRestartOptions).
+  void Restart(const CompensationTarget& target, const Eigen::VectorXd& seed, const BranchRestartOptions& options,
+               CompensationResult* result) const;
 
   Robot nominal_;
   Robot identified_;

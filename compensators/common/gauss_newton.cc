@@ -19,7 +19,7 @@ bool GaussNewtonOptions::IsValid(std::string* why) const {
   if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
   if (!(trust_radius > 0) || !std::isfinite(trust_radius)) return fail("trust_radius must be > 0");
   if (max_step_halvings < 0 || max_step_halvings > 60) return fail("max_step_halvings must be in 0..60");
-  return true;
+  return restarts.IsValid(why);
 }
 
 void GaussNewtonOptions::Read(OptionsReader* reader) {
@@ -29,6 +29,7 @@ void GaussNewtonOptions::Read(OptionsReader* reader) {
   reader->Get("singular_ratio", &singular_ratio);
   reader->Get("trust_radius", &trust_radius);
   reader->Get("max_step_halvings", &max_step_halvings);
+  restarts.Read(reader);
 }
 
 namespace {

@@ -37,6 +37,8 @@ struct GaussNewtonOptions {
   // Halvings tried when a step does not reduce |r|; 0 disables the line search (every step is taken,
   // as in the seed).
   int max_step_halvings = 10;
+  // Targets not reached from the seed are retried from the nominal arm's branches (framework/compensator.h).
+  BranchRestartOptions restarts;
 
   bool IsValid(std::string* why) const;
   // Reads the keys above from a compensator's options (the caller calls reader->Finish()).

@@ -39,7 +39,7 @@ class JacobianCompensator final : public Compensator {
   const Options& options() const { return options_; }
 
  protected:
-  bool RestartsFromBranches() const override { return true; }
+  const BranchRestartOptions* branch_restarts() const override { return &options_.iteration.restarts; }
 
  private:
   void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
