@@ -465,10 +465,18 @@ void ErrorModelProblem::MeasureRegressors() {
       for (int k = 0; k < K; ++k) sum2[k] += phi[k] * phi[k];
     }
   }
+  // A regressor that is zero at every row keeps the scale 1, so that its (zero) column reads as "no
+  // effect" to the identifiability analysis. Zero includes rounding: a gravity term of a frame whose axis
+  // is parallel to the joint's (link3_z of joint 2 on an arm with parallel axes 2 and 3) is a triple
+  // product of order 1e-17, and normalised by that RMS its column of rounding noise would pass as an
+  // independent, identifiable effect, with a coefficient that runs off to 1e10. Regressors are of order
+  // 1 in SI (unit directions, lever arms in m, speeds in rad/s, signs, sines): 1e-9 is far below any real
+  // one and far above rounding.
+  constexpr double kZeroRegressor = 1e-9;
   regressor_rms_.assign(K, 1.0);
   for (int k = 0; k < K; ++k) {
     const double rms = std::sqrt(sum2[k] / num_rows());
-    if (rms > 0.0 && std::isfinite(rms)) regressor_rms_[k] = rms;
+    if (rms > kZeroRegressor && std::isfinite(rms)) regressor_rms_[k] = rms;
   }
 }
 

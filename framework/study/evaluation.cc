@@ -225,6 +225,7 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
         PoseTables tables;
         tables.joints = spec.file;
         tables.positions = spec.position_tables;
+        tables.sequence = spec.sequence_table;
         tables.length_unit = spec.table_length_unit;
         tables.angle_unit = spec.table_angle_unit;
         d.measured = ReadPoseTables(tables, d.nominal.dof());

@@ -84,6 +84,7 @@ std::string StudyFingerprint(const Study& study, int shard_index, int shard_coun
   for (const DatasetSpec& d : study.datasets) {
     if (!d.simulated) text += Hex(HashLabel(ReadFileToString(d.file))) + "\n";
     for (const auto& [marker, path] : d.position_tables) text += marker + " " + Hex(HashLabel(ReadFileToString(path))) + "\n";
+    if (!d.sequence_table.empty()) text += "sequence " + Hex(HashLabel(ReadFileToString(d.sequence_table))) + "\n";
   }
   return Hex(HashLabel(text)) + "/shard-" + std::to_string(shard_index) + "-of-" + std::to_string(shard_count);
 }

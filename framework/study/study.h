@@ -112,6 +112,7 @@ struct DatasetSpec {
   // Measured from tables (`tables:`): `file` is the joints table; one position table per marker.
   bool tables = false;
   std::vector<std::pair<std::string, std::string>> position_tables;  // marker -> resolved path
+  std::string sequence_table;       // resolved path of the unfiltered joint readings, "" if none (pose_tables.h)
   Unit table_length_unit = {"mm", 1e-3};
   Unit table_angle_unit = {"deg", M_PI / 180.0};
   Split split = Split::kColumn;

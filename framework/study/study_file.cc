@@ -275,9 +275,10 @@ void CheckReadable(const Reader& r, const YAML::Node& node, const std::string& k
   }
 }
 
-// `tables:` {joints, positions: {marker: path}, units}: whitespace tables, row i of each is pose i.
+// `tables:` {joints, positions: {marker: path}, sequence, units}: whitespace tables, row i of each is pose
+// i; `sequence` (optional): the unfiltered joint readings the poses were filtered from (pose_tables.h).
 void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key, DatasetSpec* d) {
-  r.CheckKeys(node, key, {"joints", "positions", "units"});
+  r.CheckKeys(node, key, {"joints", "positions", "sequence", "units"});
   if (!node["joints"]) r.Fail(node, key, "missing key 'joints' (a table of joint readings, one column per joint)");
   if (!node["positions"]) r.Fail(node, key, "missing key 'positions' (marker: table of x y z)");
   d->tables = true;
@@ -294,6 +295,10 @@ void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key,
     CheckReadable(r, kv.second, pk, path);
     d->position_tables.emplace_back(marker, path);
   }
+  if (node["sequence"]) {
+    d->sequence_table = Resolve(r.file(), r.String(node["sequence"], key + ".sequence"));
+    CheckReadable(r, node["sequence"], key + ".sequence", d->sequence_table);
+  }
   if (const YAML::Node units = node["units"]) {
     r.CheckKeys(units, key + ".units", {"length", "angle"});
     try {
@@ -304,7 +309,9 @@ void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key,
     }
   }
   d->summary = "measured: tables " + d->file_as_written + " (joints, " + d->table_angle_unit.name + ") and " +
-               std::to_string(d->position_tables.size()) + " marker table(s) (" + d->table_length_unit.name + ")";
+               std::to_string(d->position_tables.size()) + " marker table(s) (" + d->table_length_unit.name + ")" +
+               (d->sequence_table.empty() ? "" : ", previous poses from the unfiltered sequence " +
+                                                     r.String(node["sequence"], key + ".sequence"));
 }
 
 DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::string& key, int dof) {

@@ -1,13 +1,13 @@
 #pragma once
 // The ABB IRB 120 laser-tracker set of ../shared/data/irb120_faro (data README): 982 processed poses,
 // joints read back from the controller (deg) and reflector positions (mm) in the tracker frame. Used by
-// tests and benchmarks only; never copied into the project.
+// tests and benchmarks only; read in place, never copied into the project.
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "framework/dataset.h"
+#include "framework/pose_tables.h"
 #include "framework/robot_file.h"
 
 namespace kincal::testing {
@@ -31,41 +31,29 @@ limits: [[-165, 165], [-110, 110], [-110, 70], [-160, 160], [-120, 120], [-400, 
                         "irb120_faro_nominal");
 }
 
-inline std::vector<std::vector<double>> ReadWhitespaceTable(const std::string& path, size_t columns) {
-  std::ifstream in(path);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ss(line);
-    std::vector<double> row;
-    double v;
-    while (ss >> v) row.push_back(v);
-    if (row.empty()) continue;
-    if (row.size() != columns) throw std::runtime_error(path + ": expected " + std::to_string(columns) + " columns");
-    rows.push_back(row);
+// The processed tables of reflectors `smrs` (1..3) through the project's reader (framework/pose_tables.h),
+// in measurement order, one row per pose and reflector (markers "SMR1".. in the order given); false when
+// the data folder is absent. The processed files are measured_joints.txt with 18 poses removed (outliers
+// and unmeasured rows), but the arm made those moves: the unfiltered readings give every pose the one it
+// was reached from (16 poses follow a removed one).
+inline bool LoadIrb120FaroReflectors(const std::string& folder, const std::vector<int>& smrs, Dataset* data) {
+  PoseTables tables;
+  tables.joints = folder + "/processed_joints.txt";
+  if (!std::ifstream(tables.joints).good()) return false;
+  tables.sequence = folder + "/measured_joints.txt";
+  for (int smr : smrs) {
+    tables.positions.emplace_back("SMR" + std::to_string(smr), folder + "/processed_SMR_" + std::to_string(smr) + ".txt");
   }
-  return rows;
+  *data = ReadPoseTables(tables, 6);
+  data->source = folder;
+  return true;
 }
 
-// Rows of the processed files with reflector `smr` (1..3) as the measured point; false when the data
-// folder is absent. Row i of the joints file matches row i of the reflector file.
+// Reflector `smr` (1..3) alone as the tool origin (rows without a marker name: the robot's tool is the
+// reflector), as above.
 inline bool LoadIrb120Faro(const std::string& folder, int smr, Dataset* data) {
-  const std::string joints_path = folder + "/processed_joints.txt";
-  if (!std::ifstream(joints_path).good()) return false;
-  const auto joints = ReadWhitespaceTable(joints_path, 6);
-  const auto points = ReadWhitespaceTable(folder + "/processed_SMR_" + std::to_string(smr) + ".txt", 3);
-  if (joints.size() != points.size()) throw std::runtime_error(folder + ": joints and reflector rows differ");
-  data->dof = 6;
-  data->source = folder;
-  data->rows.clear();
-  for (size_t i = 0; i < joints.size(); ++i) {
-    Measurement m;
-    m.q.resize(6);
-    for (int j = 0; j < 6; ++j) m.q[j] = joints[i][j] * M_PI / 180.0;
-    m.p = Eigen::Vector3d(points[i][0], points[i][1], points[i][2]) * 1e-3;
-    m.line = static_cast<int>(i + 1);
-    data->rows.push_back(m);
-  }
+  if (!LoadIrb120FaroReflectors(folder, {smr}, data)) return false;
+  for (Measurement& m : data->rows) m.marker.clear();
   return true;
 }
 

@@ -51,6 +51,60 @@ TEST(PoseTables, OneRowPerPoseAndMarkerInMeasurementOrder) {
   EXPECT_EQ(*d.PreviousQ(previous[3]), d.rows[0].q);
 }
 
+// Tables filtered from a longer sequence (irb120_faro: 982 of 1000 poses): a pose that followed a removed
+// one was reached from it, and the unfiltered readings say so.
+TEST(PoseTables, TheUnfilteredSequenceGivesEachPoseTheOneItCameFrom) {
+  TempDir tmp;
+  // Sequence: A B C C D E F (C measured twice in a row); kept: A C D F, with C's readings printed with
+  // more digits. B and E were removed.
+  WriteText(tmp.path("all.txt"), "1 1\n2 2\n3 3\n3 3\n4 4\n5 5\n6 6\n");
+  WriteText(tmp.path("q.txt"), "1 1\n3.0000000001 3\n4 4\n6 6\n");
+  WriteText(tmp.path("p.txt"), "0 0 0\n0 0 0\n0 0 0\n0 0 0\n");
+  PoseTables t;
+  t.joints = tmp.path("q.txt");
+  t.positions = {{"A", tmp.path("p.txt")}, {"B", tmp.path("p.txt")}};
+  const Dataset plain = ReadPoseTables(t, 2);
+  EXPECT_FALSE(plain.HasFromColumns());
+  t.sequence = tmp.path("all.txt");
+  const Dataset d = ReadPoseTables(t, 2);
+  ASSERT_EQ(d.rows.size(), 8u);
+  const auto deg = [](double a, double b) -> Eigen::VectorXd { return Eigen::Vector2d(a, b) * (M_PI / 180); };
+  const auto previous = d.PreviousPoses();
+  // Pose A: the first of the sequence, none.
+  EXPECT_EQ(d.PreviousQ(previous[0]), nullptr);
+  // Pose C: reached from B (removed), not from A; both of its rows (markers A and B).
+  for (int r : {2, 3}) {
+    ASSERT_NE(d.PreviousQ(previous[r]), nullptr);
+    EXPECT_TRUE(d.PreviousQ(previous[r])->isApprox(deg(2, 2))) << r;
+  }
+  // Pose D: from C, the pose before it in the table too: no from_q needed.
+  EXPECT_FALSE(d.rows[4].from_q.has_value());
+  EXPECT_TRUE(d.PreviousQ(previous[4])->isApprox(deg(3.0000000001, 3)));
+  // Pose F: from E (removed).
+  EXPECT_TRUE(d.PreviousQ(previous[6])->isApprox(deg(5, 5)));
+  // The previous poses survive a split (SelectRows) and a CSV round trip (from_q columns).
+  const Dataset odd = d.SelectRows({2, 3, 6, 7});
+  EXPECT_TRUE(odd.rows[0].from_q->isApprox(deg(2, 2)));
+  const Dataset back = ParseDatasetCsv(DatasetToCsv(d), "back.csv");
+  const auto back_previous = back.PreviousPoses();
+  for (size_t r = 0; r < d.rows.size(); ++r) {
+    const Eigen::VectorXd* a = d.PreviousQ(previous[r]);
+    const Eigen::VectorXd* b = back.PreviousQ(back_previous[r]);
+    ASSERT_EQ(a == nullptr, b == nullptr) << r;
+    if (a) EXPECT_TRUE(a->isApprox(*b, 1e-12)) << r;
+  }
+
+  // A pose missing from the sequence, or out of its order: file, line, column.
+  WriteText(tmp.path("q_bad.txt"), "1 1\n4 4\n3 3\n");
+  WriteText(tmp.path("p3.txt"), "0 0 0\n0 0 0\n0 0 0\n");
+  t.joints = tmp.path("q_bad.txt");
+  t.positions = {{"A", tmp.path("p3.txt")}};
+  EXPECT_EQ(ErrorOf(t, 2), tmp.path("q_bad.txt") + ":3:1: this pose is not in the sequence " + tmp.path("all.txt") +
+                               " after its line 5 (the joints table must be the sequence with rows removed, in order)");
+  t.sequence = tmp.path("nowhere.txt");
+  EXPECT_NE(ErrorOf(t, 2).find("nowhere.txt"), std::string::npos);
+}
+
 TEST(PoseTables, BadTablesNameFileLineAndColumn) {
   TempDir tmp;
   WriteText(tmp.path("q.txt"), "10 20\n30 x40\n");
@@ -178,6 +232,15 @@ TEST_F(MeasuredTablesStudy, TablesWithoutASplitAreRefusedWithTheirKey) {
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("datasets[0].tables.positions.SMR1: cannot read"), std::string::npos) << e.what();
+  }
+  WriteText(tmp_.path("bad3.yaml"),
+            "name: t\nrobots: {nominal: nominal.yaml}\ndatasets:\n  - name: a\n    tables: {joints: q.txt, positions: "
+            "{SMR1: m1.txt}, sequence: nowhere.txt}\n    split: {every: 2}\nestimators: [least_squares]\n");
+  try {
+    ReadStudyFile(tmp_.path("bad3.yaml"));
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("datasets[0].tables.sequence: cannot read"), std::string::npos) << e.what();
   }
 }
 
