@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include "framework/math.h"
@@ -74,21 +75,26 @@ double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool
 
 // Paden-Kahan subproblem 2 for unit vectors: angles (a, b) with Rot(w1, a) Rot(w2, b) u = v; w1, w2 not
 // parallel. The intermediate c = Rot(w2, b) u = Rot(w1, -a) v has known heights along w1 and w2.
-std::vector<std::pair<double, double>> Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u,
-                                                   const Vector3d& v) {
+struct AnglePairs {
+  int size = 0;
+  std::pair<double, double> pair[2];
+  const std::pair<double, double>* begin() const { return pair; }
+  const std::pair<double, double>* end() const { return pair + size; }
+};
+AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u, const Vector3d& v) {
+  AnglePairs out;
   const double k = w1.dot(w2);
   const Vector3d n = w1.cross(w2);
   const double n2 = n.squaredNorm();
-  if (n2 < 1e-20) return {};
+  if (n2 < 1e-20) return out;
   const double alpha = (w1.dot(v) - k * w2.dot(u)) / (1 - k * k);
   const double beta = (w2.dot(u) - k * w1.dot(v)) / (1 - k * k);
   double g2 = (u.squaredNorm() - alpha * alpha - beta * beta - 2 * alpha * beta * k) / n2;
-  if (g2 < -1e-8) return {};
+  if (g2 < -1e-8) return out;
   g2 = std::max(g2, 0.0);
-  std::vector<std::pair<double, double>> out;
   for (double sign : {1.0, -1.0}) {
     const Vector3d c = alpha * w1 + beta * w2 + sign * std::sqrt(g2) * n;
-    out.emplace_back(Subproblem1(w1, c, v), Subproblem1(w2, u, c));
+    out.pair[out.size++] = {Subproblem1(w1, c, v), Subproblem1(w2, u, c)};
   }
   return out;
 }
@@ -99,16 +105,149 @@ Vector3d Across(const Vector3d& w) {
   return w.cross(t).normalized();
 }
 
+// A short list of fixed capacity (no allocation per solve); Push beyond the capacity is dropped and
+// flagged, which Branches treats like a degenerate pose (numeric fallback); the capacities below are
+// the most the closed forms can produce.
+template <typename T, int Capacity>
+struct FixedList {
+  static constexpr int kCapacity = Capacity;
+  int size = 0;
+  bool overflow = false;
+  T item[kCapacity];
+  void Push(const T& x) {
+    if (size < kCapacity) {
+      item[size++] = x;
+    } else {
+      overflow = true;
+    }
+  }
+  const T* begin() const { return item; }
+  const T* end() const { return item + size; }
+};
+
+// cos and sin of the 16 sample angles 2 pi s / 16, and the half-angle expansions
+//     (1 + i t)^(d + m) (1 - i t)^(d - m) = sum_k B[d][m][k] t^k,   d = 1..4, m = 0..d,
+// which turn a trigonometric polynomial of degree d in c into a real polynomial of degree 2 d in
+// t = tan((c - c0) / 2): e^{i m (c - c0)} (1 + t^2)^d = (1 + i t)^(d + m) (1 - i t)^(d - m).
+struct TrigTables {
+  static constexpr int kSamples = 16;
+  double cos[kSamples], sin[kSamples];
+  std::complex<double> B[5][5][9] = {};
+  TrigTables() {
+    for (int s = 0; s < kSamples; ++s) {
+      cos[s] = std::cos(2 * M_PI * s / kSamples);
+      sin[s] = std::sin(2 * M_PI * s / kSamples);
+    }
+    for (int d = 1; d <= 4; ++d) {
+      for (int m = 0; m <= d; ++m) {
+        std::complex<double>* b = B[d][m];
+        b[0] = 1.0;
+        int degree = 0;
+        for (int f = 0; f < 2 * d; ++f) {  // multiply by (1 + i t) d + m times, then by (1 - i t)
+          const std::complex<double> slope(0.0, f < d + m ? 1.0 : -1.0);
+          for (int k = degree + 1; k > 0; --k) b[k] += slope * b[k - 1];
+          ++degree;
+        }
+      }
+    }
+  }
+};
+const TrigTables& Tables() {
+  static const TrigTables tables;
+  return tables;
+}
+
+// The roots z = e^{ic} (within 2 % of the unit circle) of z^degree F(z), from the complex companion
+// matrix: the fallback of TrigRoots when its real Schur form does not converge.
+FixedList<double, 8> ComplexCompanionAngles(const std::complex<double>* f, int degree) {
+  const int N = 2 * degree;
+  const auto coefficient = [&](int j) {
+    const int m = j - degree;
+    return m >= 0 ? f[m] : std::conj(f[-m]);
+  };
+  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(N, N);
+  const std::complex<double> lead = coefficient(N);
+  for (int j = 0; j < N; ++j) companion(0, N - 1 - j) = -coefficient(j) / lead;
+  for (int j = 1; j < N; ++j) companion(j, j - 1) = 1.0;
+  const Eigen::VectorXcd z = Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(companion, false).eigenvalues();
+  FixedList<double, 8> out;
+  for (int j = 0; j < N; ++j) {
+    if (std::isfinite(z[j].real()) && std::abs(std::abs(z[j]) - 1.0) <= 2e-2) out.Push(std::arg(z[j]));
+  }
+  return out;
+}
+
+// The real roots c of the trigonometric polynomial F(c) = f0 + 2 Re sum_{m=1}^{degree} f_m e^{imc}, and
+// the near-real ones (z = e^{ic} within 2 % of the unit circle, so that a pose just outside a fold still
+// gets its nearest candidates; the callers check every candidate), unpolished.
+// With t = tan((c - c0) / 2), P(t) = (1 + t^2)^degree F(c) is a real polynomial of degree 2 degree whose
+// leading coefficient is F(c0 + pi): c0 + pi is the sample where |F| is largest, so P keeps its full
+// degree and no root hides at t = infinity. Its roots are the eigenvalues of the companion matrix,
+// already upper Hessenberg: a real Schur form of at most 8 x 8 of fixed capacity (the complex companion
+// of z^degree F(z) in a dynamic matrix took about 3 times as many instructions).
+FixedList<double, 8> TrigRoots(const std::complex<double>* f, int degree, double c_max) {
+  const TrigTables& tables = Tables();
+  const int N = 2 * degree;
+  const double c0 = c_max - M_PI;
+  double P[9] = {};
+  for (int m = 0; m <= degree; ++m) {
+    const std::complex<double> g = f[m] * std::polar(m == 0 ? 1.0 : 2.0, m * c0);  // f_-m terms: conjugates
+    for (int k = 0; k <= N; ++k) P[k] += (g * tables.B[degree][m][k]).real();
+  }
+  using Matrix8 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 8, 8>;
+  Matrix8 H = Matrix8::Zero(N, N);
+  for (int j = 0; j < N; ++j) H(0, j) = -P[N - 1 - j] / P[N];
+  for (int j = 1; j < N; ++j) H(j, j - 1) = 1.0;
+  Eigen::RealSchur<Matrix8> schur(N);
+  schur.computeFromHessenberg(H, H, false);
+  if (schur.info() != Eigen::Success) return ComplexCompanionAngles(f, degree);
+  const Matrix8& T = schur.matrixT();
+  FixedList<double, 8> out;
+  const auto add = [&](double re, double im) {
+    // z = (1 + i t) / (1 - i t) = e^{i (c - c0)}.
+    const std::complex<double> t(re, im), i(0.0, 1.0);
+    const std::complex<double> z = (1.0 + i * t) / (1.0 - i * t);
+    if (std::isfinite(z.real()) && std::isfinite(z.imag()) && std::abs(std::abs(z) - 1.0) <= 2e-2) {
+      out.Push(c0 + std::arg(z));
+    }
+  };
+  for (int j = 0; j < N;) {
+    if (j + 1 < N && T(j + 1, j) != 0.0) {
+      // A 2 x 2 block (complex pair; RealSchur splits blocks with real eigenvalues): Eigen's formula.
+      const double p = 0.5 * (T(j, j) - T(j + 1, j + 1));
+      const double t0 = T(j + 1, j), t1 = T(j, j + 1);
+      const double scale = std::max({std::abs(p), std::abs(t0), std::abs(t1)});
+      const double disc = (p / scale) * (p / scale) + (t0 / scale) * (t1 / scale);
+      if (disc >= 0) {
+        const double r = scale * std::sqrt(disc);
+        add(T(j + 1, j + 1) + p + r, 0.0);
+        add(T(j + 1, j + 1) + p - r, 0.0);
+      } else {
+        const double r = scale * std::sqrt(-disc);
+        add(T(j + 1, j + 1) + p, r);
+        add(T(j + 1, j + 1) + p, -r);
+      }
+      j += 2;
+    } else {
+      add(T(j, j), 0.0);
+      ++j;
+    }
+  }
+  return out;
+}
+
 // 3R positioning: angles (a, b, c) with E_A(a) E_B(b) E_C(c) p0 = p. Pieper's invariants of the rotation
 // about A, |f - pA|^2 and wA.(f - pA) for f = E_B(b) E_C(c) p0, give two equations
 //     alpha_i(c) cos b + beta_i(c) sin b + gamma_i(c) = 0,   i = 1, 2,
 // with alpha, beta, gamma of degree 1 in (cos c, sin c). Eliminating b (cos^2 b + sin^2 b = 1) leaves
 //     F(c) = (beta1 gamma2 - beta2 gamma1)^2 + (alpha2 gamma1 - alpha1 gamma2)^2 - (alpha1 beta2 - alpha2 beta1)^2,
 // a trigonometric polynomial of degree <= 4: its Fourier coefficients come exactly from 16 samples, its
-// roots z = e^{ic} from the companion matrix of z^m F(z). *degenerate: F vanishes identically.
-std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p,
-                              bool* degenerate) {
+// roots from TrigRoots, each polished by Newton steps on F. Where A and B meet, the first equation alone
+// gives c. *degenerate: F vanishes identically (a continuum of solutions).
+using Positions = FixedList<Vector3d, 16>;
+Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, bool* degenerate) {
   *degenerate = false;
+  Positions out;
   // Points on A and B at their common perpendicular (so that d = 0 when they meet).
   {
     const double k = A.w.dot(B.w);
@@ -128,8 +267,8 @@ std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& 
   struct Coef {
     double a1, b1, g1, a2, b2, g2;
   };
-  const auto coef = [&](double c) {
-    const Vector3d u = U1 * std::cos(c) + U2 * std::sin(c) + U0;
+  const auto coef = [&](double cos_c, double sin_c) {
+    const Vector3d u = U1 * cos_c + U2 * sin_c + U0;
     const double uwB = B.w.dot(u);
     const Vector3d wxu = B.w.cross(u);
     Coef k;
@@ -141,72 +280,118 @@ std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& 
     k.g2 = kAB * uwB + A.w.dot(d) - h;
     return k;
   };
-  const auto F = [&](double c) {
-    const Coef k = coef(c);
-    const double x = k.b1 * k.g2 - k.b2 * k.g1, y = k.a2 * k.g1 - k.a1 * k.g2, D = k.a1 * k.b2 - k.a2 * k.b1;
-    return x * x + y * y - D * D;
-  };
-  constexpr int kSamples = 16;
-  double samples[kSamples];
-  for (int s = 0; s < kSamples; ++s) samples[s] = F(2 * M_PI * s / kSamples);
-  std::complex<double> f[5];  // f[m], m = 0..4; f[-m] = conj(f[m])
-  double scale = 0.0;
-  for (int m = 0; m <= 4; ++m) {
-    std::complex<double> sum = 0.0;
-    for (int s = 0; s < kSamples; ++s) sum += samples[s] * std::polar(1.0, -2 * M_PI * m * s / kSamples);
-    f[m] = sum / double(kSamples);
-    scale = std::max(scale, std::abs(f[m]));
-  }
-  int degree = 4;
-  while (degree > 0 && std::abs(f[degree]) <= 1e-11 * scale) --degree;
-  std::vector<double> roots;
-  if (degree == 0) {
-    // F is constant: no solution, or every c solves (a degenerate arm at this pose).
-    *degenerate = scale == 0.0 || std::abs(f[0]) <= 1e-12 * (std::abs(samples[0]) + 1e-300);
-    if (!*degenerate) return {};
-    *degenerate = true;
-    return {};
-  }
-  // z^degree F(z) = sum_{j=0}^{2 degree} coef_j z^j with coef_j = f[j - degree].
-  const int N = 2 * degree;
-  const auto coefficient = [&](int j) {
-    const int m = j - degree;
-    return m >= 0 ? f[m] : std::conj(f[-m]);
-  };
-  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(N, N);
-  const std::complex<double> lead = coefficient(N);
-  for (int j = 0; j < N; ++j) companion(0, N - 1 - j) = -coefficient(j) / lead;
-  for (int j = 1; j < N; ++j) companion(j, j - 1) = 1.0;
-  const Eigen::VectorXcd z = Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(companion, false).eigenvalues();
-  for (int j = 0; j < N; ++j) {
-    if (!std::isfinite(z[j].real()) || std::abs(std::abs(z[j]) - 1.0) > 2e-2) continue;
-    double c = std::arg(z[j]);
-    // Newton on F (derivative from the Fourier series) polishes the eigenvalue's angle.
-    for (int it = 0; it < 4; ++it) {
-      std::complex<double> value = f[0], slope = 0.0;
-      for (int m = 1; m <= degree; ++m) {
-        const std::complex<double> e = std::polar(1.0, m * c);
-        value += 2.0 * (f[m] * e).real();
-        slope += 2.0 * (std::complex<double>(0, m) * f[m] * e).real();
-      }
-      if (std::abs(slope.real()) < 1e-300) break;
-      const double step = value.real() / slope.real();
-      if (!std::isfinite(step) || std::abs(step) > 0.1) break;
-      c -= step;
-    }
-    bool duplicate = false;
-    for (double r : roots) duplicate = duplicate || std::abs(WrapAngle(r - c)) < 1e-7;
-    if (!duplicate) roots.push_back(c);
-  }
-  std::vector<Vector3d> out;
   const double length = 1.0 + p.norm() + p0.norm();
+  FixedList<double, 8> roots;
+  // The general case: the roots of F.
+  const auto eliminant_roots = [&]() {
+    const TrigTables& tables = Tables();
+    constexpr int kSamples = TrigTables::kSamples;
+    double samples[kSamples];
+    int largest = 0;
+    for (int s = 0; s < kSamples; ++s) {
+      const Coef k = coef(tables.cos[s], tables.sin[s]);
+      const double x = k.b1 * k.g2 - k.b2 * k.g1, y = k.a2 * k.g1 - k.a1 * k.g2, D = k.a1 * k.b2 - k.a2 * k.b1;
+      samples[s] = x * x + y * y - D * D;
+      if (std::abs(samples[s]) > std::abs(samples[largest])) largest = s;
+    }
+    std::complex<double> f[5];  // f[m], m = 0..4; f[-m] = conj(f[m])
+    double scale = 0.0;
+    for (int m = 0; m <= 4; ++m) {
+      double re = 0.0, im = 0.0;
+      for (int s = 0; s < kSamples; ++s) {
+        const int r = (m * s) % kSamples;  // e^{-2 pi i m s / 16}
+        re += samples[s] * tables.cos[r];
+        im -= samples[s] * tables.sin[r];
+      }
+      f[m] = std::complex<double>(re, im) / double(kSamples);
+      scale = std::max(scale, std::abs(f[m]));
+    }
+    int degree = 4;
+    while (degree > 0 && std::abs(f[degree]) <= 1e-11 * scale) --degree;
+    if (degree == 0) {
+      // F is constant: no solution, or every c solves (a degenerate arm at this pose).
+      *degenerate = scale == 0.0 || std::abs(f[0]) <= 1e-12 * (std::abs(samples[0]) + 1e-300);
+      return;
+    }
+    const FixedList<double, 8> raw = TrigRoots(f, degree, 2 * M_PI * largest / kSamples);
+    // F, dF/dc and d2F/dc2 from the Fourier series.
+    const auto evaluate = [&](double c, double* slope, double* curvature) {
+      const std::complex<double> e1 = std::polar(1.0, c);
+      std::complex<double> e = 1.0;
+      double value = f[0].real();
+      *slope = *curvature = 0.0;
+      for (int m = 1; m <= degree; ++m) {
+        e *= e1;
+        const std::complex<double> fe = f[m] * e;
+        value += 2.0 * fe.real();
+        *slope -= 2.0 * m * fe.imag();       // 2 Re(i m f_m e^{imc})
+        *curvature -= 2.0 * m * m * fe.real();  // 2 Re(-m^2 f_m e^{imc})
+      }
+      return value;
+    };
+    for (double c : raw) {
+      // Newton on F polishes the eigenvalue's angle; a step is kept only where it lowers |F|, since at a
+      // double root (F >= 0 touching zero, as where axes A and B meet) value and slope are both rounding
+      // noise and a full step can throw an accurate root away.
+      double slope = 0.0, curvature = 0.0;
+      double value = evaluate(c, &slope, &curvature);
+      for (int it = 0; it < 4 && value != 0.0; ++it) {
+        const double step = value / slope;
+        if (!std::isfinite(step) || std::abs(step) > 0.1) break;
+        double next_slope = 0.0, next_curvature = 0.0;
+        const double next = evaluate(c - step, &next_slope, &next_curvature);
+        if (!(std::abs(next) < std::abs(value))) break;
+        c -= step;
+        value = next;
+        slope = next_slope;
+        curvature = next_curvature;
+      }
+      // Newton on F stops about sqrt(eps) short of a double root (where two branches meet: a singular
+      // configuration, whose joints the polish on the model can then not correct); the root of F' within
+      // 1e-6 is the root to full precision, if F is no larger there (beyond rounding). At a simple root
+      // any such move raises |F| by |F'| |step|, far above rounding, and is refused.
+      for (int it = 0; it < 3; ++it) {
+        const double step = slope / curvature;
+        if (!std::isfinite(step) || std::abs(step) > 1e-6 || step == 0.0) break;
+        double next_slope = 0.0, next_curvature = 0.0;
+        const double next = evaluate(c - step, &next_slope, &next_curvature);
+        if (!(std::abs(next) <= std::abs(value) + 1e-15 * scale)) break;
+        c -= step;
+        value = next;
+        slope = next_slope;
+        curvature = next_curvature;
+      }
+      bool duplicate = false;
+      for (double r : roots) duplicate = duplicate || std::abs(WrapAngle(r - c)) < 1e-7;
+      if (!duplicate) roots.Push(c);
+    }
+  };
+  if (d.norm() <= 1e-12 * length && 1 - kAB * kAB > 1e-12) {
+    // A and B meet (the shoulders of the IRB 120 and the Puma 560): turns about B keep the distance to
+    // the common point, so the first equation loses b (alpha1 = beta1 = 0) and reads gamma1(c) = 0,
+    //     2 U0.U1 cos c + 2 U0.U2 sin c + |U1|^2 + |U0|^2 - rho = 0   (U1 _|_ U2, |U1| = |U2|),
+    // two angles in closed form. F = gamma1^2 (alpha2^2 + beta2^2) has only double roots there, which
+    // an eigenvalue solver finds to sqrt(eps) at best (and its real Schur form may not converge).
+    const double alpha = 2 * U0.dot(U1), beta = 2 * U0.dot(U2), gamma = U1.squaredNorm() + U0.squaredNorm() - rho;
+    const double r = std::hypot(alpha, beta);
+    if (r <= 1e-14 * length * length) {
+      *degenerate = std::abs(gamma) <= 1e-12 * length * length;  // every c, or none
+      return out;
+    }
+    if (std::abs(gamma) > r * (1 + 1e-9)) return out;  // out of reach
+    const double phi = std::atan2(beta, alpha), delta = std::acos(std::clamp(-gamma / r, -1.0, 1.0));
+    roots.Push(phi + delta);
+    if (delta > 1e-9) roots.Push(phi - delta);
+  } else {
+    eliminant_roots();
+  }
   for (double c : roots) {
-    const Coef k = coef(c);
-    std::vector<double> bs;
+    const Coef k = coef(std::cos(c), std::sin(c));
+    FixedList<double, 2> bs;
     const double D = k.a1 * k.b2 - k.a2 * k.b1;
     const double n1 = std::hypot(k.a1, k.b1), n2 = std::hypot(k.a2, k.b2);
     if (std::abs(D) > 1e-7 * n1 * n2) {
-      bs.push_back(std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D));
+      bs.Push(std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D));
     } else {
       // The two equations are dependent in (cos b, sin b) (e.g. A and B meet): use the better one.
       const bool first = n1 / length > n2;
@@ -217,8 +402,8 @@ std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& 
         continue;
       }
       const double phi = std::atan2(b, a), delta = std::acos(std::clamp(-g / r, -1.0, 1.0));
-      bs.push_back(phi + delta);
-      if (delta > 1e-9) bs.push_back(phi - delta);
+      bs.Push(phi + delta);
+      if (delta > 1e-9) bs.Push(phi - delta);
     }
     for (double b : bs) {
       const Vector3d fp = Exp(B, b) * (Exp(C, c) * p0);
@@ -226,7 +411,7 @@ std::vector<Vector3d> Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& 
       const double a = Subproblem1(A.w, fp - A.p, p - A.p, &free_a);
       if (free_a) *degenerate = true;
       const Vector3d reached = Exp(A, a) * fp;
-      if ((reached - p).norm() < 1e-4 * length) out.emplace_back(a, b, c);
+      if ((reached - p).norm() < 1e-4 * length) out.Push(Vector3d(a, b, c));
     }
   }
   return out;
@@ -260,6 +445,10 @@ double LineDistance(const Screw& a, const Screw& b) {
 
 }  // namespace
 
+// Closed-form branches of a 6-joint arm: at most 16 positions of the 3R chain (8 roots, two angles
+// where its equations are dependent) times 2 for the rest.
+using BranchList = FixedList<Vector6d, 32>;
+
 struct NominalInverseKinematics::Impl {
   enum class Kind { kNumeric, kPieper, kParallel };
   Robot robot;
@@ -275,15 +464,15 @@ struct NominalInverseKinematics::Impl {
 
   void Detect();
   // Raw closed-form branches (unpolished, unwrapped) of the model's joint order; *degenerate when some
-  // solution family is continuous.
-  std::vector<VectorXd> Branches(const Isometry3d& T, bool* degenerate) const;
-  std::vector<VectorXd> PieperBranches(const Isometry3d& M, bool* degenerate) const;
-  std::vector<VectorXd> ParallelBranches(const Isometry3d& M, bool* degenerate) const;
+  // solution family is continuous (or, never seen, more candidates than the list holds).
+  BranchList Branches(const Isometry3d& T, bool* degenerate) const;
+  void PieperBranches(const Isometry3d& M, BranchList* out, bool* degenerate) const;
+  void ParallelBranches(const Isometry3d& M, BranchList* out, bool* degenerate) const;
   // Newton on the model; returns the errors.
   void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const;
-  bool WrapIntoLimits(const VectorXd& reference, VectorXd* q) const;
+  bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q) const;
   bool Singular(const VectorXd& q) const;
-  bool MatchesConfiguration(const VectorXd& q) const;
+  bool MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const;
   IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference) const;
   IkSolution Finish(const Isometry3d& T, VectorXd q, const VectorXd& reference, int branch) const;
 };
@@ -354,45 +543,43 @@ void NominalInverseKinematics::Impl::Detect() {
   }
 }
 
-std::vector<VectorXd> NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, bool* degenerate) const {
+void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, BranchList* out, bool* degenerate) const {
   // Joints after the triple, moved by M, then those before: the 3R chain that takes w to M w.
-  std::vector<int> outer;
-  std::vector<Screw> chain;
-  for (int j = first + 3; j < n; ++j) {
-    outer.push_back(j);
-    chain.push_back(Moved(M, screws[j]));
+  int outer[3];
+  Screw chain[3];
+  int k = 0;
+  for (int j = first + 3; j < n; ++j, ++k) {
+    outer[k] = j;
+    chain[k] = Moved(M, screws[j]);
   }
-  for (int j = 0; j < first; ++j) {
-    outer.push_back(j);
-    chain.push_back(screws[j]);
+  for (int j = 0; j < first; ++j, ++k) {
+    outer[k] = j;
+    chain[k] = screws[j];
   }
-  const std::vector<Vector3d> positions = Solve3R(chain[0], chain[1], chain[2], center, M * center, degenerate);
-  std::vector<VectorXd> out;
+  const Positions positions = Solve3R(chain[0], chain[1], chain[2], center, M * center, degenerate);
+  const Vector3d& w1 = screws[first].w;
+  const Vector3d& w2 = screws[first + 1].w;
+  const Vector3d& w3 = screws[first + 2].w;
+  const Vector3d e = Across(w3);
   for (const Vector3d& abc : positions) {
-    VectorXd q = VectorXd::Zero(n);
-    for (int k = 0; k < 3; ++k) q[outer[k]] = abc[k];
+    Vector6d q = Vector6d::Zero();
+    for (int i = 0; i < 3; ++i) q[outer[i]] = abc[i];
     Isometry3d before = Isometry3d::Identity(), after = Isometry3d::Identity();
     for (int j = 0; j < first; ++j) before = before * Exp(screws[j], q[j]);
     for (int j = first + 3; j < n; ++j) after = after * Exp(screws[j], q[j]);
     const Matrix3d R_N = (before.inverse() * M * after.inverse()).linear();
-    const Vector3d& w1 = screws[first].w;
-    const Vector3d& w2 = screws[first + 1].w;
-    const Vector3d& w3 = screws[first + 2].w;
     for (const auto& [x, y] : Subproblem2(w1, w2, w3, R_N * w3)) {
-      const Vector3d e = Across(w3);
       q[first] = x;
       q[first + 1] = y;
       q[first + 2] = Subproblem1(w3, e, (Rot(w1, x) * Rot(w2, y)).transpose() * R_N * e);
-      out.push_back(q);
+      out->Push(q);
     }
   }
-  return out;
 }
 
-std::vector<VectorXd> NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, bool* degenerate) const {
+void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, BranchList* out, bool* degenerate) const {
   const Screw &X = screws[0], &P1 = screws[1], &P2 = screws[2], &P3 = screws[3], &Y = screws[4], &Z = screws[5];
   const Vector3d& w = P1.w;
-  std::vector<VectorXd> out;
   // The planar triple keeps heights along w: w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u.
   const Vector3d m = M * center - X.p;
   const double A = w.dot(m - X.w * X.w.dot(m)), B = -w.dot(X.w.cross(m));
@@ -400,9 +587,9 @@ std::vector<VectorXd> NominalInverseKinematics::Impl::ParallelBranches(const Iso
   const double r = std::hypot(A, B);
   if (r < 1e-12) {
     *degenerate = true;
-    return out;
+    return;
   }
-  if (std::abs(C) > r * (1 + 1e-9)) return out;
+  if (std::abs(C) > r * (1 + 1e-9)) return;
   const double phi = std::atan2(B, A), delta = std::acos(std::clamp(C / r, -1.0, 1.0));
   for (double a : {phi + delta, phi - delta}) {
     // The triple keeps w: R_Y(y) R_Z(z) (R_M^T R_X(a) w) = w.
@@ -426,7 +613,7 @@ std::vector<VectorXd> NominalInverseKinematics::Impl::ParallelBranches(const Iso
       h2 = std::max(h2, 0.0);
       for (double sign : {1.0, -1.0}) {
         const Vector3d x = c1 + along * dv / dist + sign * std::sqrt(h2) * w.cross(dv) / dist;
-        VectorXd q(n);
+        Vector6d q;
         q[0] = a;
         q[4] = y;
         q[5] = z;
@@ -434,20 +621,25 @@ std::vector<VectorXd> NominalInverseKinematics::Impl::ParallelBranches(const Iso
         q[1] = Subproblem1(P1.w, x - c1, t - P1.p);
         const Vector3d e = Across(P3.w);
         q[3] = Subproblem1(P3.w, e, (Rot(P1.w, q[1]) * Rot(P2.w, q[2])).transpose() * P.linear() * e);
-        out.push_back(q);
+        out->Push(q);
       }
     }
   }
-  return out;
 }
 
-std::vector<VectorXd> NominalInverseKinematics::Impl::Branches(const Isometry3d& T, bool* degenerate) const {
+BranchList NominalInverseKinematics::Impl::Branches(const Isometry3d& T, bool* degenerate) const {
   *degenerate = false;
-  if (kind == Kind::kNumeric) return {};
+  BranchList out;
+  if (kind == Kind::kNumeric) return out;
   const Isometry3d M = (reversed ? T.inverse() : T) * T0.inverse();
-  std::vector<VectorXd> out = kind == Kind::kPieper ? PieperBranches(M, degenerate) : ParallelBranches(M, degenerate);
+  if (kind == Kind::kPieper) {
+    PieperBranches(M, &out, degenerate);
+  } else {
+    ParallelBranches(M, &out, degenerate);
+  }
+  if (out.overflow) *degenerate = true;
   if (reversed) {
-    for (VectorXd& q : out) q.reverseInPlace();
+    for (int b = 0; b < out.size; ++b) out.item[b].reverseInPlace();
   }
   return out;
 }
@@ -473,11 +665,11 @@ void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, do
   *oe = e.tail<3>().norm();
 }
 
-bool NominalInverseKinematics::Impl::WrapIntoLimits(const VectorXd& reference, VectorXd* q) const {
+bool NominalInverseKinematics::Impl::WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q) const {
   bool inside = true;
   for (int j = 0; j < n; ++j) {
     const auto [low, high] = robot.Limit(j);
-    double& v = (*q)[j];
+    double& v = q[j];
     if (robot.model().joint_type(j) == JointType::kRevolute) {
       // The representative v + 2 pi k inside [low, high] closest to the reference, else the one
       // closest to the interval.
@@ -499,11 +691,21 @@ bool NominalInverseKinematics::Impl::WrapIntoLimits(const VectorXd& reference, V
 
 bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
   const Matrix6Xd J = robot.model().JointJacobian(q);
+  if (J.cols() < 6) return true;
+  if (J.cols() == 6) {
+    // r = sigma_min / sigma_max is bracketed without an SVD: sigma_max <= |J|_F <= sqrt(6) sigma_max and
+    // 1 / sigma_min <= |J^-1|_F <= sqrt(6) / sigma_min give r / 6 <= 1 / (|J|_F |J^-1|_F) <= r. Only a
+    // ratio inside that factor of 6 of the threshold (or an exactly singular LU) needs the SVD.
+    const Eigen::Matrix<double, 6, 6> A = J;
+    const double bound = 1.0 / (A.norm() * Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>>(A).inverse().norm());
+    if (bound >= options.singular_ratio) return false;
+    if (6 * bound < options.singular_ratio) return true;
+  }
   const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
-  return J.cols() < 6 || s[s.size() - 1] < options.singular_ratio * s[0];
+  return s[s.size() - 1] < options.singular_ratio * s[0];
 }
 
-bool NominalInverseKinematics::Impl::MatchesConfiguration(const VectorXd& q) const {
+bool NominalInverseKinematics::Impl::MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const {
   for (size_t j = 0; j < options.configuration.size(); ++j) {
     const double v = WrapAngle(q[j]);
     if ((options.configuration[j] > 0 && v < 0) || (options.configuration[j] < 0 && v > 0)) return false;
@@ -524,7 +726,7 @@ IkSolution NominalInverseKinematics::Impl::Numeric(const Isometry3d& T, bool ori
     s.status = orientation && Singular(s.q) ? IkStatus::kSingular : IkStatus::kUnreachable;
   } else {
     VectorXd q = s.q;
-    const bool inside = WrapIntoLimits(reference, &q);
+    const bool inside = WrapIntoLimits(reference, q);
     s.q = q;
     s.status = !inside ? IkStatus::kOutOfLimits : (orientation && Singular(q)) ? IkStatus::kSingular : IkStatus::kSolved;
   }
@@ -567,18 +769,18 @@ bool NominalInverseKinematics::has_closed_form() const { return impl_->kind != I
 
 std::vector<IkSolution> NominalInverseKinematics::AllBranches(const Isometry3d& T, const VectorXd& reference) const {
   const Impl& m = *impl_;
-  const VectorXd ref = reference.size() == m.n ? reference : m.middle;
+  const VectorXd& ref = reference.size() == m.n ? reference : m.middle;
   bool degenerate = false;
   std::vector<IkSolution> out;
-  const std::vector<VectorXd> branches = m.Branches(T, &degenerate);
-  for (size_t b = 0; b < branches.size(); ++b) {
+  const BranchList branches = m.Branches(T, &degenerate);
+  for (int b = 0; b < branches.size; ++b) {
     IkSolution s;
-    s.q = branches[b];
-    s.branch = static_cast<int>(b);
+    s.q = branches.item[b];
+    s.branch = b;
     s.closed_form = true;
     m.Polish(T, &s.q, &s.position_error, &s.orientation_error);
     if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance)) continue;
-    const bool inside = m.WrapIntoLimits(ref, &s.q);
+    const bool inside = m.WrapIntoLimits(ref, s.q);
     s.status = !inside ? IkStatus::kOutOfLimits : m.Singular(s.q) ? IkStatus::kSingular : IkStatus::kSolved;
     bool duplicate = false;
     for (const IkSolution& o : out) {
@@ -593,35 +795,35 @@ std::vector<IkSolution> NominalInverseKinematics::AllBranches(const Isometry3d& 
 
 IkSolution NominalInverseKinematics::Solve(const Isometry3d& T, const VectorXd& reference) const {
   const Impl& m = *impl_;
-  const VectorXd ref = reference.size() == m.n && reference.allFinite() ? reference : m.middle;
+  const VectorXd& ref = reference.size() == m.n && reference.allFinite() ? reference : m.middle;
   bool degenerate = false;
-  std::vector<VectorXd> branches = m.Branches(T, &degenerate);
+  BranchList branches = m.Branches(T, &degenerate);
   // Rank: inside the limits, then the named configuration, then the distance to the reference.
   struct Candidate {
     int rank;
     double distance;
     int branch;
-    VectorXd q;
   };
-  std::vector<Candidate> candidates;
-  for (size_t b = 0; b < branches.size(); ++b) {
-    VectorXd q = branches[b];
+  Candidate candidates[BranchList::kCapacity];
+  int count = 0;
+  for (int b = 0; b < branches.size; ++b) {
+    Vector6d& q = branches.item[b];
     if (!q.allFinite()) continue;
-    const bool inside = m.WrapIntoLimits(ref, &q);
+    const bool inside = m.WrapIntoLimits(ref, q);
     const int rank = (inside ? 0 : 2) + (m.MatchesConfiguration(q) ? 0 : 1);
-    candidates.push_back({rank, (q - ref).squaredNorm(), static_cast<int>(b), q});
+    candidates[count++] = {rank, (q - ref).squaredNorm(), b};
   }
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+  std::sort(candidates, candidates + count, [](const Candidate& a, const Candidate& b) {
     return a.rank != b.rank ? a.rank < b.rank : a.distance < b.distance;
   });
-  for (Candidate& c : candidates) {
-    IkSolution s;
-    s.q = c.q;
-    s.branch = c.branch;
+  IkSolution s;
+  for (int c = 0; c < count; ++c) {
+    s.q = branches.item[candidates[c].branch];
+    s.branch = candidates[c].branch;
     s.closed_form = true;
     m.Polish(T, &s.q, &s.position_error, &s.orientation_error);
     if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance)) continue;
-    const bool inside = m.WrapIntoLimits(ref, &s.q);
+    const bool inside = m.WrapIntoLimits(ref, s.q);
     s.status = !inside ? IkStatus::kOutOfLimits : m.Singular(s.q) ? IkStatus::kSingular : IkStatus::kSolved;
     return s;
   }

@@ -1,7 +1,12 @@
 // Inverse kinematics of the nominal robot: closed form against forward kinematics on random
-// configurations of four real arms (every branch), branch counts, detection from the geometry (an arm
-// without a closed form goes numeric), limits with 2 pi wraps, and unreachable targets without NaN.
+// configurations of four real arms (every branch), branch counts, poses on a fold of the workspace
+// (two branches meeting), detection from the geometry (an arm without a closed form goes numeric),
+// limits with 2 pi wraps, the singular status against the singular values, and unreachable targets
+// without NaN.
 #include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <Eigen/SVD>
 
 #include "framework/math.h"
 #include "framework/nominal_ik.h"
@@ -96,6 +101,88 @@ TEST(NominalIk, GenericPieperArmHasEightBranches) {
     EXPECT_LE(all.size(), 8u);
   }
   EXPECT_GT(eights, 0);
+}
+
+// Configurations where the Jacobian's determinant changes sign along one joint (bisected to rounding):
+// their poses lie on a fold of the workspace, where two branches meet and the closed form's
+// polynomial has a double root. Each such pose is still solved in closed form, to 1e-9, next to the
+// configuration it came from.
+std::vector<Eigen::VectorXd> FoldConfigurations(const Robot& robot, int joint, int count, uint64_t seed) {
+  const auto det = [&](const Eigen::VectorXd& q) {
+    return Eigen::Matrix<double, 6, 6>(robot.model().JointJacobian(q)).determinant();
+  };
+  std::vector<Eigen::VectorXd> out;
+  Rng rng(seed);
+  while (static_cast<int>(out.size()) < count) {
+    const Eigen::VectorXd q = RandomConfiguration(robot, &rng);
+    const auto [low, high] = robot.Limit(joint);
+    for (int s = 0; s < 50 && static_cast<int>(out.size()) < count; ++s) {
+      Eigen::VectorXd a = q, b = q;
+      a[joint] = low + (high - low) * s / 50;
+      b[joint] = low + (high - low) * (s + 1) / 50;
+      const double sign = det(a);
+      if (sign * det(b) > 0) continue;
+      for (int it = 0; it < 60; ++it) {
+        Eigen::VectorXd m = a;
+        m[joint] = 0.5 * (a[joint] + b[joint]);
+        (det(m) * sign > 0 ? a : b) = m;
+      }
+      out.push_back(a);
+    }
+  }
+  return out;
+}
+
+TEST(NominalIk, PosesOnAFoldAreSolvedInClosedForm) {
+  // The shoulder and elbow folds of the Puma 560 (its first two axes meet: the eliminant has only
+  // double roots; with its shoulder offset every fold is a true fold, the configuration unique), the
+  // IRB 120's along joint 3 (some where its wrist centre crosses axis 1: a continuum in q1, any member
+  // will do), and the wrist folds of the seed's arm (the general eliminant; axes 3 and 5 in line: a
+  // continuum too).
+  const struct {
+    const char* file;
+    int joint;
+    bool unique;
+  } cases[] = {{"puma560_dh.yaml", 1, true}, {"puma560_dh.yaml", 2, true}, {"irb120_mdh.yaml", 2, false},
+               {"seed_nominal.yaml", 4, false}};
+  for (const auto& c : cases) {
+    const Robot robot = LoadExampleRobot(c.file);
+    const NominalInverseKinematics ik(robot);
+    int near = 0;
+    const std::vector<Eigen::VectorXd> folds = FoldConfigurations(robot, c.joint, 30, 21);
+    for (const Eigen::VectorXd& q : folds) {
+      const Eigen::Isometry3d T = robot.model().ForwardKinematics(q);
+      const IkSolution s = ik.Solve(T, q);
+      EXPECT_TRUE(s.closed_form) << c.file << " " << q.transpose();
+      const Vector6d e = PoseError(robot.model().ForwardKinematics(s.q), T);
+      EXPECT_LT(e.head<3>().norm(), 1e-9) << c.file;
+      EXPECT_LT(e.tail<3>().norm(), 1e-9) << c.file;
+      near += MaxWrappedDifference(s.q, q) < 1e-6;
+    }
+    if (c.unique) EXPECT_GE(near, 29) << c.file << " joint " << c.joint + 1;
+  }
+}
+
+// The singular status is sigma_min / sigma_max < singular_ratio of the Jacobian, also next to the
+// threshold (the solver brackets the ratio without an SVD and decides by SVD only near it).
+TEST(NominalIk, SingularStatusFollowsTheSingularValues) {
+  const Robot robot = LoadExampleRobot("puma560_dh.yaml");
+  const NominalInverseKinematics ik(robot);
+  Rng rng(13);
+  int singular = 0, regular = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    Eigen::VectorXd q = RandomConfiguration(robot, &rng);
+    q[4] = std::pow(10.0, rng.Uniform(-9, -3)) * (trial % 2 ? 1 : -1);  // axes 4 and 6 nearly in line
+    const IkSolution s = ik.Solve(robot.model().ForwardKinematics(q), q);
+    ASSERT_TRUE(s.status == IkStatus::kSolved || s.status == IkStatus::kSingular) << ToString(s.status);
+    const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(robot.model().JointJacobian(s.q)).singularValues();
+    const double ratio = sv[5] / sv[0];
+    if (std::abs(ratio / 1e-6 - 1) < 1e-6) continue;  // too close to call
+    EXPECT_EQ(s.status == IkStatus::kSingular, ratio < 1e-6) << ratio;
+    (ratio < 1e-6 ? singular : regular) += 1;
+  }
+  EXPECT_GT(singular, 20);
+  EXPECT_GT(regular, 20);
 }
 
 // Breaking the intersection (an offset on the wrist) leaves no closed form: numeric, still solving.
