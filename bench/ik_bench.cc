@@ -1,7 +1,7 @@
 // Inverse kinematics of the four example arms (framework/nominal_ik.h) beside orocos KDL's
 // ChainIkSolverPos_LMA, plain (one start, the middle of the limits) and with random restarts within the
-// limits until KDL reports success inside the limits (at most kMaxStarts starts); and seedless
-// compensation on the command line against the same targets with seeds (issue 12).
+// limits until KDL reports success inside the limits (at most kMaxStarts starts). Seedless compensation on
+// the command line: seedless_compensation_bench.cc.
 //
 // Targets: 1000 poses of random configurations within the joint limits (seed 12), no seeds: each solver
 // starts from the middle of the limits.
@@ -28,11 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -174,71 +170,6 @@ void BM_Ik_KdlLma(benchmark::State& state, const std::string& file, int max_star
   KDL::epsilon = kdl_epsilon;
 }
 
-// The whole `kincal compensate --method analytic_derivative` on 2000 targets (nominal poses of random
-// configurations within the limits), with the configurations as seeds or without seeds. The identified
-// robot: the seed's for its arm, otherwise the nominal one with every length moved by up to 0.5 mm and
-// every angle by up to 0.05 deg (seeded). Counter reached: converged within 1e-6 mm and 1e-8 rad.
-void BM_CompensateCommand(benchmark::State& state, const std::string& file, bool seeds) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("kincal_ik_bench_" + file);
-  std::filesystem::create_directories(dir);
-  const std::string robots = std::string(KINCAL_SOURCE_DIR) + "/examples/robots/";
-  const Robot nominal = ReadRobotFile(robots + file);
-  const std::string identified_path = file == "seed_nominal.yaml" ? robots + "seed_identified.yaml"
-                                                                   : (dir / "identified.yaml").string();
-  const std::string targets = (dir / (seeds ? "seeded.csv" : "seedless.csv")).string();
-  const std::string out = (dir / "joints.csv").string();
-  Rng rng(2000);
-  if (file != "seed_nominal.yaml") {
-    Robot identified = nominal;
-    Eigen::VectorXd p = identified.model().Parameters();
-    const auto& info = identified.model().parameter_info();
-    for (int i = 0; i < p.size(); ++i) {
-      p[i] += info[i].kind == ParameterInfo::Kind::kLength ? rng.Uniform(-0.5e-3, 0.5e-3)
-                                                           : rng.Uniform(-0.05, 0.05) * M_PI / 180;
-    }
-    identified.model().SetParameters(p);
-    WriteRobotFile(identified, identified_path);
-  }
-  {
-    std::ofstream f(targets);
-    f.precision(17);
-    f << "x_mm,y_mm,z_mm,qw,qx,qy,qz";
-    if (seeds) for (int j = 1; j <= nominal.dof(); ++j) f << ",q" << j << "_rad";
-    f << "\n";
-    for (int k = 0; k < 2000; ++k) {
-      Eigen::VectorXd q(nominal.dof());
-      for (int j = 0; j < q.size(); ++j) q[j] = rng.Uniform(nominal.Limit(j).first, nominal.Limit(j).second);
-      const Eigen::Isometry3d T = nominal.model().ForwardKinematics(q);
-      const Eigen::Vector3d p = T.translation() * 1e3;
-      const Eigen::Quaterniond quat(T.linear());
-      f << p.x() << "," << p.y() << "," << p.z() << "," << quat.w() << "," << quat.x() << "," << quat.y() << "," << quat.z();
-      if (seeds) for (int j = 0; j < q.size(); ++j) f << "," << q[j];
-      f << "\n";
-    }
-  }
-  const std::string command = std::string(KINCAL_CLI) + " compensate --nominal " + robots + file + " --identified " +
-                              identified_path + " --targets " + targets + " --method analytic_derivative --out " + out +
-                              " > /dev/null";
-  for (auto _ : state) {
-    if (std::system(command.c_str()) != 0) state.SkipWithError("kincal compensate failed");
-  }
-  std::ifstream in(out);
-  std::string line;
-  std::getline(in, line);
-  int reached = 0, rows = 0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    const size_t s = cells.size();
-    // ..., status, iterations, position_error_mm, orientation_error_deg, seed_computed
-    ++rows;
-    reached += cells[s - 5] == "converged" && std::stod(cells[s - 3]) <= 1e-6 &&
-               std::stod(cells[s - 2]) * M_PI / 180 <= 1e-8;
-  }
-  state.counters["reached"] = rows ? double(reached) / rows : 0.0;
-}
-
 const char* const kArms[] = {"seed_nominal.yaml", "irb120_mdh.yaml", "ur10_dh.yaml", "puma560_dh.yaml"};
 
 void Register() {
@@ -251,13 +182,6 @@ void Register() {
         ->Iterations(1)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLmaExact/" + name).c_str(), BM_Ik_KdlLma, arm, kMaxStarts, true)
         ->Iterations(1)->Unit(benchmark::kMillisecond);
-  }
-  for (const char* arm : kArms) {
-    const std::string name(arm, std::string(arm).find('.'));
-    benchmark::RegisterBenchmark(("CompensateCommand/seeds/" + name).c_str(), BM_CompensateCommand, arm, true)
-        ->Iterations(3)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("CompensateCommand/seedless/" + name).c_str(), BM_CompensateCommand, arm, false)
-        ->Iterations(3)->Unit(benchmark::kMillisecond);
   }
 }
 
