@@ -74,7 +74,13 @@ bool WrapIntoLimits(const Robot& robot, const Eigen::VectorXd& reference, Eigen:
   for (int j = 0; j < q->size(); ++j) {
     const auto [low, high] = robot.Limit(j);
     double& v = (*q)[j];
-    if (robot.model().joint_type(j) == JointType::kRevolute) {
+    const bool revolute = robot.model().joint_type(j) == JointType::kRevolute;
+    // The common case: inside, and no whole turn brings it nearer the reference within the limits.
+    if (v >= low && v <= high) {
+      const double turns = revolute ? std::round((reference[j] - v) / (2 * M_PI)) : 0.0;
+      if (turns == 0.0 || !(v + 2 * M_PI * turns >= low && v + 2 * M_PI * turns <= high)) continue;
+    }
+    if (revolute) {
       const double k_low = std::ceil((low - v) / (2 * M_PI)), k_high = std::floor((high - v) / (2 * M_PI));
       if (k_low <= k_high) v += 2 * M_PI * std::clamp(std::round((reference[j] - v) / (2 * M_PI)), k_low, k_high);
     }
@@ -182,18 +188,24 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   }
   CompensationResult result;
   // A seed from a targets file is the controller's joint readings; its joints are the coupled ones.
-  Eigen::VectorXd seed = target.seed;
-  if (seed.size() != 0 && nominal_.coupling.size() != 0) seed = nominal_.coupling * seed;
-  if (seed.size() == 0) {
+  Eigen::VectorXd computed_seed;
+  const Eigen::VectorXd* seed_in = &target.seed;
+  if (target.seed.size() != 0 && nominal_.coupling.size() != 0) {
+    computed_seed = nominal_.coupling * target.seed;
+    seed_in = &computed_seed;
+  }
+  if (seed_in->size() == 0) {
     // The controller's solution: closed form where the geometry allows, on the branch closest to where
     // the arm comes from (the previous target), else from the middle of the limits.
     Eigen::VectorXd reference = target.previous_command;
     if (reference.size() != 0 && nominal_.coupling.size() != 0) reference = nominal_.coupling * reference;
     const IkSolution ik = target.has_orientation ? nominal_ik_->Solve(target.T_meas_tool, reference)
                                                  : nominal_ik_->SolvePosition(target.T_meas_tool.translation(), reference);
-    seed = ik.q;
+    computed_seed = ik.q;
+    seed_in = &computed_seed;
     result.report.seed_computed = true;
   }
+  const Eigen::VectorXd& seed = *seed_in;
   result.q_actual = seed;
   DoCompensate(target, seed, &result);
   result.report.total_iterations = result.report.iterations;
@@ -203,12 +215,8 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
            WrapIntoLimits(identified_, seed, &result.q_actual);
   };
   const BranchRestartOptions* restarts = branch_restarts();
-  if (!reached() && restarts && restarts->enabled && result.q_actual.allFinite()) {
+  if (restarts && restarts->enabled && result.q_actual.allFinite() && !reached()) {
     Restart(target, seed, *restarts, &result);
-  }
-  if (result.report.status == CompensationStatus::kConverged && !reached()) {
-    result.report.status = CompensationStatus::kOutOfLimits;
-    result.report.message = "reached only outside the identified arm's joint limits";
   }
   if (result.q_actual.size() != n || !result.q_actual.allFinite()) {
     result.q_actual = seed;
@@ -224,6 +232,12 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   if (!std::isfinite(result.report.position_error) || !std::isfinite(result.report.orientation_error)) {
     result.report.status = CompensationStatus::kFailed;
     result.report.message = "the pose error is not finite: values out of range in the robot files";
+  } else {
+    JudgeErrors(target, &result);
+  }
+  if (result.report.status == CompensationStatus::kConverged && !reached()) {
+    result.report.status = CompensationStatus::kOutOfLimits;
+    result.report.message = "reached only outside the identified arm's joint limits";
   }
   // The commands that put the identified arm's joints at q_actual: coupling, ratios and joint errors
   // inverted, the latter coming from the previous target's commands (framework/joint_readings.h).

@@ -100,6 +100,10 @@ class Compensator {
   // from the nominal arm's closed-form branches and random starts (Restart). Default none (table lookups
   // gain nothing).
   virtual const BranchRestartOptions* branch_restarts() const { return nullptr; }
+  // Called once the report holds the identified robot's errors at q_actual (its forward kinematics,
+  // computed once by Compensate()): a method whose status depends on them (a fixed number of steps)
+  // sets it here. Default: the status DoCompensate() gave stands.
+  virtual void JudgeErrors(const CompensationTarget& /*target*/, CompensationResult* /*result*/) const {}
 
  private:
   virtual void DoPrepare() {}

@@ -40,7 +40,17 @@ Eigen::Isometry3d PoseFromXyzRpy(const Eigen::Vector3d& xyz, const Eigen::Vector
 }
 
 Eigen::Vector3d RotationLog(const Eigen::Matrix3d& R) {
-  // Eigen's AngleAxis uses a quaternion internally, which stays accurate near 0 and pi.
+  // Up to about 120 deg: vee(R - R^T) / 2 = sin(theta) k and (trace - 1) / 2 = cos(theta), so one atan2
+  // gives theta to full relative precision, also for tiny angles (the compensators' steps call this
+  // millions of times). Beyond, sin(theta) loses the axis: Eigen's AngleAxis through a quaternion stays
+  // accurate up to pi.
+  const double c = 0.5 * (R.trace() - 1.0);
+  if (c > -0.5) {
+    const Eigen::Vector3d v(0.5 * (R(2, 1) - R(1, 2)), 0.5 * (R(0, 2) - R(2, 0)), 0.5 * (R(1, 0) - R(0, 1)));
+    const double s = v.norm();
+    if (s == 0.0) return Eigen::Vector3d::Zero();
+    return v * (std::atan2(s, c) / s);
+  }
   const Eigen::AngleAxisd aa(Eigen::Quaterniond(R).normalized());
   double angle = aa.angle();
   Eigen::Vector3d axis = aa.axis();

@@ -37,9 +37,11 @@ Eigen::VectorXd DriveModel::AnglesFromCounts(const Eigen::VectorXd& counts) cons
 }
 
 std::vector<int64_t> DriveModel::CommandCounts(const Eigen::VectorXd& q_commanded) const {
-  const Eigen::VectorXd counts = CountsFromAngles(q_commanded);
-  std::vector<int64_t> out(counts.size());
-  for (int i = 0; i < counts.size(); ++i) out[i] = std::llround(counts[i]);
+  // CountsFromAngles element by element, in the same order of operations, without a temporary.
+  std::vector<int64_t> out(q_commanded.size());
+  for (int i = 0; i < q_commanded.size(); ++i) {
+    out[i] = std::llround(encoder_zero[i] + counts_per_rev[i] * ratio[i] * q_commanded[i] / (2.0 * M_PI));
+  }
   return out;
 }
 

@@ -73,6 +73,13 @@ void JointSpaceCompensator::DoPrepare() {
                                           }));
   }
 
+  revolute_.clear();
+  bool all_revolute = options_.degree == 1;
+  for (int j = 0; j < n; ++j) all_revolute = all_revolute && model.joint_type(j) == JointType::kRevolute;
+  for (int j = 0; all_revolute && j < n; ++j) {
+    revolute_.push_back({factors_[j].Term(0), factors_[j].Term(1), factors_[j].Term(2)});
+  }
+
   // Screws at q = 0: dX_j/dq_j at 0 is [omega_j]x | v_j, X_j(0) being the identity.
   screws_.resize(6, n);
   for (int j = 0; j < n; ++j) {
@@ -138,7 +145,41 @@ void JointSpaceCompensator::DoPrepare() {
   info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void JointSpaceCompensator::JointTrig::Set(const Joints& q) {
+  for (int j = 0; j < q.size(); ++j) {
+    c[j] = std::cos(q[j]);
+    s[j] = std::sin(q[j]);
+  }
+}
+
+void JointSpaceCompensator::JointTrig::Advance(const Joints& dq) {
+  for (int j = 0; j < dq.size(); ++j) {
+    const double x = dq[j];
+    double cd, sd;
+    if (std::abs(x) <= 0.6) {
+      // Taylor series to x^13 / x^12: the remainder is below 0.6^14 / 14! ~ 9e-15 relative to 1... and
+      // each step's own error is what the next step corrects.
+      const double x2 = x * x;
+      sd = x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 +
+                                                                                                          x2 / 6227020800.0))))));
+      cd = 1 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 +
+                                                                                             x2 / 479001600.0)))));
+    } else {
+      cd = std::cos(x);
+      sd = std::sin(x);
+    }
+    const double c0 = c[j], s0 = s[j];
+    c[j] = c0 * cd - s0 * sd;
+    s[j] = s0 * cd + c0 * sd;
+  }
+}
+
 bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const {
+  if (!revolute_.empty()) {
+    JointTrig trig;
+    trig.Set(q);
+    return Pose(q, trig, T_meas_tool, J);
+  }
   const int n = static_cast<int>(q.size());
   // P = X_1 .. X_j as rotation and translation; the spatial twist of joint j is its screw at q = 0
   // carried by X_1 .. X_(j-1) (Murray, Li and Sastry eq. 3.54): omega = R_P omega_j,
@@ -169,27 +210,99 @@ bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool
   return inside;
 }
 
+bool JointSpaceCompensator::Pose(const Joints& q, const JointTrig& trig, Eigen::Isometry3d* T_meas_tool,
+                                 Jacobian* J) const {
+  // As above, with X_j = c0 + cos(q_j) c1 + sin(q_j) c2.
+  const int n = static_cast<int>(q.size());
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Matrix<double, 6, kMaxJoints> twist;
+  for (int j = 0; j < n; ++j) {
+    if (J) {
+      twist.col(j).tail<3>().noalias() = R * screws_.col(j).tail<3>();
+      twist.col(j).head<3>().noalias() = R * screws_.col(j).head<3>();
+      twist.col(j).head<3>() += p.cross(twist.col(j).tail<3>());
+    }
+    const RevoluteFactor& f = revolute_[j];
+    Pose34 X;
+    X.noalias() = f.c0 + trig.c[j] * f.c1 + trig.s[j] * f.c2;
+    p.noalias() += R * X.col(3);
+    R = R * X.leftCols<3>();
+  }
+  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
+  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
+  if (!J) return true;
+  J->resize(6, n);
+  const Eigen::Vector3d p_tool = T_meas_tool->translation();
+  for (int j = 0; j < n; ++j) {
+    J->col(j).tail<3>() = twist.col(j).tail<3>();
+    J->col(j).head<3>() = twist.col(j).head<3>() + twist.col(j).tail<3>().cross(p_tool);
+  }
+  return true;
+}
+
+void JointSpaceCompensator::PoseJacobian6(const JointTrig& trig, Eigen::Isometry3d* T_meas_tool,
+                                          Eigen::Matrix<double, 6, 6>* J) const {
+  // Pose(q, trig, T, J) for six revolute joints, all sizes fixed.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int j = 0; j < 6; ++j) {
+    const Eigen::Vector3d w = R * screws_.col(j).tail<3>();
+    J->col(j).tail<3>() = w;
+    J->col(j).head<3>().noalias() = R * screws_.col(j).head<3>() + p.cross(w);
+    const RevoluteFactor& f = revolute_[j];
+    const double c = trig.c[j], s = trig.s[j];
+    Eigen::Matrix3d X;
+    for (int k = 0; k < 9; ++k) X.data()[k] = f.c0.data()[k] + c * f.c1.data()[k] + s * f.c2.data()[k];
+    Eigen::Vector3d t;
+    for (int k = 0; k < 3; ++k) t[k] = f.c0(k, 3) + c * f.c1(k, 3) + s * f.c2(k, 3);
+    p.noalias() += R * t;
+    R = R * X;
+  }
+  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
+  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
+  const Eigen::Vector3d p_tool = T_meas_tool->translation();
+  for (int j = 0; j < 6; ++j) J->col(j).head<3>() += J->col(j).tail<3>().cross(p_tool);
+}
+
 bool JointSpaceCompensator::Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const {
   const int n = static_cast<int>(q->size());
   const int rows = target.has_orientation ? 6 : 3;
   Vector6d weights = Vector6d::Ones();
   weights.head<3>() /= options_.length_scale;
   const double mu = options_.damping * options_.damping;
+  const bool fast = !revolute_.empty();
   Jacobian J;
   Eigen::Isometry3d T;
   bool inside = true;
+  JointTrig trig;
+  if (fast) trig.Set(*q);
   for (int step = 0; step < steps; ++step) {
-    inside = Pose(*q, &T, &J) && inside;
-    const Vector6d e = weights.cwiseProduct(PoseError(T, target.T_meas_tool));
-    const Jacobian A = weights.asDiagonal() * J;
-    Joints dq(n);
-    if (n == 6 && rows == 6) {
-      Eigen::Matrix<double, 6, 6> normal;
-      const Eigen::Matrix<double, 6, 6> A6 = A;
-      normal.noalias() = A6.transpose() * A6;
-      normal.diagonal().array() += mu;
-      dq = normal.llt().solve(A6.transpose() * e);
+    Eigen::Matrix<double, 6, 6> A;
+    const bool fixed6 = n == 6 && rows == 6;
+    if (fast && fixed6) {
+      PoseJacobian6(trig, &T, &A);
+    } else if (fast) {
+      Pose(*q, trig, &T, &J);
     } else {
+      inside = Pose(*q, &T, &J) && inside;
+    }
+    const Vector6d e = weights.cwiseProduct(PoseError(T, target.T_meas_tool));
+    Joints dq(n);
+    if (fixed6) {
+      // Fixed sizes: the common 6-joint pose target.
+      if (!fast) A = J.leftCols<6>();
+      A.topRows<3>() *= weights[0];
+      // The lower triangle of A^T A + mu I only: what the Cholesky factorisation reads.
+      Eigen::Matrix<double, 6, 6> normal;
+      for (int c = 0; c < 6; ++c) {
+        for (int r = c; r < 6; ++r) normal(r, c) = A.col(r).dot(A.col(c));
+        normal(c, c) += mu;
+      }
+      Eigen::LLT<Eigen::Matrix<double, 6, 6>, Eigen::Lower> llt(normal);
+      dq = llt.solve(A.transpose() * e);
+    } else {
+      const Jacobian A = weights.asDiagonal() * J;
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints> normal(n, n);
       normal.noalias() = A.topRows(rows).transpose() * A.topRows(rows);
       normal.diagonal().array() += mu;
@@ -202,6 +315,7 @@ bool JointSpaceCompensator::Steps(const CompensationTarget& target, int steps, J
       *cut = true;
     }
     *q += dq;
+    if (fast) trig.Advance(dq);
   }
   return inside;
 }
@@ -210,25 +324,39 @@ void JointSpaceCompensator::DoCompensate(const CompensationTarget& target, const
                                          CompensationResult* result) const {
   Joints q = seed + offset_;
   bool cut = false;
-  bool inside = Steps(target, options_.steps, &q, &cut);
-  Eigen::Isometry3d T;
-  inside = Pose(q, &T) && inside;
-  const Vector6d e = PoseError(T, target.T_meas_tool);
-  const double position = e.head<3>().norm(), orientation = target.has_orientation ? e.tail<3>().norm() : 0.0;
+  const bool inside = Steps(target, options_.steps, &q, &cut) && InsideFittedRanges(q);
   result->q_actual = q;
   result->report.iterations = options_.steps;
+  // Provisional: JudgeErrors() decides from the model's errors at q, which Compensate() computes.
   if (!inside) {
     result->report.status = CompensationStatus::kFailed;
     result->report.message = "a prismatic joint left the range the expansion was fitted over";
-  } else if (position <= options_.position_tolerance && orientation <= options_.orientation_tolerance) {
-    result->report.status = CompensationStatus::kConverged;
   } else if (cut) {
     result->report.status = CompensationStatus::kSingular;
     result->report.message = "a step was cut to max_step (near a singular configuration)";
   } else {
-    result->report.status = CompensationStatus::kIterationLimit;
-    result->report.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+    result->report.status = CompensationStatus::kConverged;
   }
+}
+
+void JointSpaceCompensator::JudgeErrors(const CompensationTarget& /*target*/, CompensationResult* result) const {
+  CompensationReport& r = result->report;
+  if (r.status != CompensationStatus::kConverged && r.status != CompensationStatus::kSingular) return;
+  if (r.position_error <= options_.position_tolerance && r.orientation_error <= options_.orientation_tolerance) {
+    r.status = CompensationStatus::kConverged;
+    r.message.clear();
+  } else if (r.status == CompensationStatus::kConverged) {
+    r.status = CompensationStatus::kIterationLimit;
+    r.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+  }
+}
+
+bool JointSpaceCompensator::InsideFittedRanges(const Joints& q) const {
+  for (const PoseExpansion& f : factors_) {
+    const PoseExpansion::Axis& axis = f.axes()[0];
+    if (axis.type == JointType::kPrismatic && !(q[axis.joint] >= axis.low && q[axis.joint] <= axis.high)) return false;
+  }
+  return true;
 }
 
 }  // namespace kincal

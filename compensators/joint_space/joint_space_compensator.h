@@ -28,7 +28,8 @@
 // a step is quadratic in the step, but on the seed's arm the correction is large over much of the joint
 // space (median 0.07 rad, 10 % above 0.25 rad: its wrist is near-singular there), hence 3 steps by
 // default: 2 leave 83 % of random targets within 0.05 mm and 1e-4 rad, 3 leave 97 %, 4 leave 99.5 %.
-// Status: kConverged when the expansion's pose is then within the tolerances; kSingular when a step was
+// Status: kConverged when the identified model's pose at the result (the forward kinematics Compensate()
+// computes for the report) is within the tolerances; kSingular when a step was
 // cut to max_step (near a singular configuration the correction is large); kIterationLimit otherwise;
 // kFailed when a prismatic joint leaves the range its factor was fitted over. Accuracy, speed and
 // memory: compensators/README.md (tests/compensators/joint_space_accuracy_test.cc,
@@ -94,6 +95,19 @@ class JointSpaceCompensator final : public Compensator {
   // model's layout: point velocity, then angular velocity, both in the measurement frame). False when a
   // prismatic joint is outside its fitted range.
   bool Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J = nullptr) const;
+
+  // cos and sin of each joint angle, updated across the steps of one lookup: after a step dq the new
+  // values follow from the angle-addition formulas with cos(dq), sin(dq) from their Taylor series, which
+  // costs a fraction of a libm call (sin and cos were a quarter of a lookup's instructions).
+  struct JointTrig {
+    double c[kMaxJoints], s[kMaxJoints];
+    void Set(const Joints& q);
+    void Advance(const Joints& dq);  // q += dq
+  };
+  // Pose() on the fast path, with the joints' cos and sin given.
+  bool Pose(const Joints& q, const JointTrig& trig, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const;
+  // The same for six joints with fixed sizes: the pose and its 6 x 6 Jacobian.
+  void PoseJacobian6(const JointTrig& trig, Eigen::Isometry3d* T_meas_tool, Eigen::Matrix<double, 6, 6>* J) const;
   // rad: the typical correction added to every seed before the first step (see above).
   const Eigen::VectorXd& offset() const { return offset_; }
 
@@ -103,9 +117,18 @@ class JointSpaceCompensator final : public Compensator {
                     CompensationResult* result) const override;
   // `steps` damped Gauss-Newton steps towards `target` from *q; *cut tells whether one was shortened.
   bool Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const;
+  void JudgeErrors(const CompensationTarget& target, CompensationResult* result) const override;
+  // Prismatic joints within the ranges their factors were fitted over.
+  bool InsideFittedRanges(const Joints& q) const;
+
+  // X_j = c0 + cos(q_j) c1 + sin(q_j) c2: the fast path for all-revolute chains of degree 1.
+  struct RevoluteFactor {
+    PoseExpansion::Pose34 c0, c1, c2;
+  };
 
   Options options_;
   std::vector<PoseExpansion> factors_;  // X_j(q_j)
+  std::vector<RevoluteFactor> revolute_;  // the same as RevoluteFactor when they apply, else empty
   Eigen::Matrix4d T_zero_ = Eigen::Matrix4d::Identity();  // T_meas_tool(0)
   Eigen::Matrix<double, 6, Eigen::Dynamic> screws_;         // (v, omega) of each joint at q = 0
   Eigen::VectorXd offset_;

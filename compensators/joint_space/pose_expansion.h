@@ -40,6 +40,9 @@ class PoseExpansion {
 
   const std::vector<Axis>& axes() const { return axes_; }
   int num_terms() const { return static_cast<int>(coefficients_.cols()); }
+  // Term t of the series as a 3 x 4 pose (its coefficients): with one revolute axis of degree 1 the pose
+  // is Term(0) + cos(q) Term(1) + sin(q) Term(2), which callers on a fast path evaluate inline.
+  Pose34 Term(int t) const { return Eigen::Map<const Pose34>(coefficients_.col(t).data()); }
   size_t memory_bytes() const { return coefficients_.size() * sizeof(double); }
 
   // The pose at the full joint vector q and, when dT_dq is not null, its derivative along each axis
