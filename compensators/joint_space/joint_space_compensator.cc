@@ -174,95 +174,71 @@ void JointSpaceCompensator::JointTrig::Advance(const Joints& dq) {
   }
 }
 
+namespace {
+
+// T_meas_tool = X_1 .. X_n T(0), and (J not null) its Jacobian, with `factor(j, &X)` giving X_j (false when
+// outside its fitted range). The spatial twist of joint j is its screw at q = 0 carried by X_1 .. X_(j-1)
+// (Murray, Li and Sastry eq. 3.54): omega = R omega_j, v = R v_j + p x omega for the point at the
+// origin, moved to the tool point at the end. JacobianOut: the dynamic Jacobian or a fixed 6 x 6.
+template <typename FactorFn, typename JacobianOut>
+bool PoseProduct(int n, const FactorFn& factor, const Eigen::Matrix<double, 6, Eigen::Dynamic>& screws,
+                 const Eigen::Matrix4d& T_zero, Eigen::Isometry3d* T_meas_tool, JacobianOut* J) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  bool inside = true;
+  if (J && J->cols() != n) J->resize(6, n);
+  for (int j = 0; j < n; ++j) {
+    if (J) {
+      const Eigen::Vector3d w = R * screws.col(j).tail<3>();
+      J->col(j).template tail<3>() = w;
+      J->col(j).template head<3>().noalias() = R * screws.col(j).head<3>() + p.cross(w);
+    }
+    Pose34 X;
+    inside = factor(j, &X) && inside;
+    p.noalias() += R * X.col(3);
+    R = R * X.leftCols<3>();
+  }
+  T_meas_tool->linear() = R * T_zero.topLeftCorner<3, 3>();
+  T_meas_tool->translation() = R * T_zero.topRightCorner<3, 1>() + p;
+  if (!J) return inside;
+  const Eigen::Vector3d p_tool = T_meas_tool->translation();
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector3d w = J->col(j).template tail<3>();
+    J->col(j).template head<3>() += w.cross(p_tool);
+  }
+  return inside;
+}
+
+}  // namespace
+
 bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const {
   if (!revolute_.empty()) {
     JointTrig trig;
     trig.Set(q);
     return Pose(q, trig, T_meas_tool, J);
   }
-  const int n = static_cast<int>(q.size());
-  // P = X_1 .. X_j as rotation and translation; the spatial twist of joint j is its screw at q = 0
-  // carried by X_1 .. X_(j-1) (Murray, Li and Sastry eq. 3.54): omega = R_P omega_j,
-  // v = R_P v_j + p_P x omega, v being the velocity of the point at the frame's origin.
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  bool inside = true;
-  Eigen::Matrix<double, 6, kMaxJoints> twist;
-  for (int j = 0; j < n; ++j) {
-    if (J) {
-      twist.col(j).tail<3>() = R * screws_.col(j).tail<3>();
-      twist.col(j).head<3>() = R * screws_.col(j).head<3>() + p.cross(twist.col(j).tail<3>());
-    }
-    Pose34 X;
-    inside = factors_[j].EvaluateSingle(q[j], &X) && inside;
-    p += R * X.col(3);
-    R = R * X.leftCols<3>();
-  }
-  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
-  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
-  if (!J) return inside;
-  J->resize(6, n);
-  const Eigen::Vector3d p_tool = T_meas_tool->translation();
-  for (int j = 0; j < n; ++j) {
-    J->col(j).tail<3>() = twist.col(j).tail<3>();
-    J->col(j).head<3>() = twist.col(j).head<3>() + twist.col(j).tail<3>().cross(p_tool);
-  }
-  return inside;
+  const auto factor = [&](int j, Pose34* X) { return factors_[j].EvaluateSingle(q[j], X); };
+  return PoseProduct(static_cast<int>(q.size()), factor, screws_, T_zero_, T_meas_tool, J);
 }
 
 bool JointSpaceCompensator::Pose(const Joints& q, const JointTrig& trig, Eigen::Isometry3d* T_meas_tool,
                                  Jacobian* J) const {
-  // As above, with X_j = c0 + cos(q_j) c1 + sin(q_j) c2.
-  const int n = static_cast<int>(q.size());
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  Eigen::Matrix<double, 6, kMaxJoints> twist;
-  for (int j = 0; j < n; ++j) {
-    if (J) {
-      twist.col(j).tail<3>().noalias() = R * screws_.col(j).tail<3>();
-      twist.col(j).head<3>().noalias() = R * screws_.col(j).head<3>();
-      twist.col(j).head<3>() += p.cross(twist.col(j).tail<3>());
-    }
+  const auto factor = [&](int j, Pose34* X) {
     const RevoluteFactor& f = revolute_[j];
-    Pose34 X;
-    X.noalias() = f.c0 + trig.c[j] * f.c1 + trig.s[j] * f.c2;
-    p.noalias() += R * X.col(3);
-    R = R * X.leftCols<3>();
-  }
-  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
-  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
-  if (!J) return true;
-  J->resize(6, n);
-  const Eigen::Vector3d p_tool = T_meas_tool->translation();
-  for (int j = 0; j < n; ++j) {
-    J->col(j).tail<3>() = twist.col(j).tail<3>();
-    J->col(j).head<3>() = twist.col(j).head<3>() + twist.col(j).tail<3>().cross(p_tool);
-  }
-  return true;
+    X->noalias() = f.c0 + trig.c[j] * f.c1 + trig.s[j] * f.c2;
+    return true;
+  };
+  return PoseProduct(static_cast<int>(q.size()), factor, screws_, T_zero_, T_meas_tool, J);
 }
 
 void JointSpaceCompensator::PoseJacobian6(const JointTrig& trig, Eigen::Isometry3d* T_meas_tool,
                                           Eigen::Matrix<double, 6, 6>* J) const {
-  // Pose(q, trig, T, J) for six revolute joints, all sizes fixed.
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int j = 0; j < 6; ++j) {
-    const Eigen::Vector3d w = R * screws_.col(j).tail<3>();
-    J->col(j).tail<3>() = w;
-    J->col(j).head<3>().noalias() = R * screws_.col(j).head<3>() + p.cross(w);
+  const auto factor = [&](int j, Pose34* X) {
     const RevoluteFactor& f = revolute_[j];
-    const double c = trig.c[j], s = trig.s[j];
-    Eigen::Matrix3d X;
-    for (int k = 0; k < 9; ++k) X.data()[k] = f.c0.data()[k] + c * f.c1.data()[k] + s * f.c2.data()[k];
-    Eigen::Vector3d t;
-    for (int k = 0; k < 3; ++k) t[k] = f.c0(k, 3) + c * f.c1(k, 3) + s * f.c2(k, 3);
-    p.noalias() += R * t;
-    R = R * X;
-  }
-  T_meas_tool->linear() = R * T_zero_.topLeftCorner<3, 3>();
-  T_meas_tool->translation() = R * T_zero_.topRightCorner<3, 1>() + p;
-  const Eigen::Vector3d p_tool = T_meas_tool->translation();
-  for (int j = 0; j < 6; ++j) J->col(j).head<3>() += J->col(j).tail<3>().cross(p_tool);
+    X->noalias() = f.c0 + trig.c[j] * f.c1 + trig.s[j] * f.c2;
+    return true;
+  };
+  PoseProduct(6, factor, screws_, T_zero_, T_meas_tool, J);
 }
 
 bool JointSpaceCompensator::Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const {

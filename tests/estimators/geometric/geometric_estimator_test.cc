@@ -247,7 +247,9 @@ TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
   const Eigen::VectorXd a = identified.model().Parameters(), b = truth.model().Parameters();
   const std::vector<ParameterInfo> info = identified.model().parameter_info();  // a copy: identified is reassigned below
   for (int k = 0; k < identified.model().num_parameters(); ++k) {
-    if (info[k].name.rfind("tool_", 0) != 0) EXPECT_NEAR(a[k], b[k], 1e-11) << info[k].name;
+    if (info[k].name.rfind("tool_", 0) != 0) {
+      EXPECT_NEAR(a[k], b[k], 1e-11) << info[k].name;
+    }
   }
   EXPECT_TRUE(identified.model().tool().isApprox(nominal.model().tool(), 0.0));
   for (const char* id : {"A", "B"}) {
@@ -259,7 +261,9 @@ TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
   o.marker = "A";
   GeometricEstimator(o).Estimate(nominal, data, &identified);
   for (int k = 0; k < identified.model().num_parameters(); ++k) {
-    if (info[k].name.rfind("tool_", 0) != 0) EXPECT_NEAR(identified.model().Parameters()[k], b[k], 1e-11) << info[k].name;
+    if (info[k].name.rfind("tool_", 0) != 0) {
+      EXPECT_NEAR(identified.model().Parameters()[k], b[k], 1e-11) << info[k].name;
+    }
   }
   EXPECT_LT((identified.model().tool() * identified.markers.at("A") - truth.model().tool() * truth.markers.at("A")).norm(),
             1e-12);
