@@ -136,11 +136,15 @@ void ExpectSameKinematics(const Robot& a, const Robot& b, const std::string& wha
   }
   for (const Eigen::VectorXd& q : Configurations(a)) {
     const Eigen::Isometry3d Ta = a.model().ForwardKinematics(q), Tb = b.model().ForwardKinematics(q);
-    double scale = 1.0 + q.cwiseAbs().sum();
-    for (const Eigen::VectorXd& p : {a.model().Parameters(), b.model().Parameters()}) scale += p.cwiseAbs().sum();
-    const double dp = (Ta.translation() - Tb.translation()).norm();
+    // Largest magnitudes, not sums or norms: lengths up to 1e300 are legal, their squares are not.
+    double scale = 1.0 + q.cwiseAbs().maxCoeff();
+    for (const Eigen::VectorXd& p : {a.model().Parameters(), b.model().Parameters()}) {
+      scale = std::max(scale, p.cwiseAbs().maxCoeff());
+    }
+    scale *= 4.0 * (a.dof() + 2);
+    const double dp = (Ta.translation() - Tb.translation()).cwiseAbs().maxCoeff();
     const double dr = (Ta.linear() - Tb.linear()).cwiseAbs().maxCoeff();
-    if (!(dp <= 1e-9 * scale) || !(dr <= 1e-9 * scale)) {
+    if (!(dp <= 1e-9 * scale) || !(dr <= 4e-9 * (a.dof() + 2))) {
       Finding(what + ": other kinematics (position gap " + std::to_string(dp) + ", rotation gap " + std::to_string(dr) + ")");
     }
   }

@@ -131,6 +131,33 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
 
 Eigen::Vector3d Axis(const urdf::Joint& joint) { return {joint.axis.x, joint.axis.y, joint.axis.z}; }
 
+// urdfdom reads any finite double. The robot file kincal import writes holds lengths in mm and angles
+// in deg (and may be rewritten in um): a number beyond 1e300 (m, rad, m/s) would overflow there, so it
+// is refused here. An axis is only a direction, but its length must be a finite, non-zero number.
+void CheckNumbers(const urdf::Joint& joint, const std::string& path) {
+  constexpr double kLargest = 1e300;
+  const auto check = [&](double value, const char* what) {
+    if (!(std::abs(value) <= kLargest)) {
+      ThrowInputError(path + ": joint '" + joint.name + "' has " + what + " " + FormatExact(value) +
+                      ", beyond the +-1e300 a robot file can hold");
+    }
+  };
+  const urdf::Vector3& p = joint.parent_to_joint_origin_transform.position;
+  for (const double v : {p.x, p.y, p.z}) check(v, "an origin coordinate");
+  if (joint.limits) {
+    check(joint.limits->lower, "a lower limit");
+    check(joint.limits->upper, "an upper limit");
+    check(joint.limits->velocity, "a velocity limit");
+  }
+  if (IsMoving(joint)) {
+    const double norm = Axis(joint).norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) {
+      ThrowInputError(path + ": joint '" + joint.name + "' has an axis of length " + FormatExact(norm) +
+                      " (expected a finite, non-zero direction)");
+    }
+  }
+}
+
 }  // namespace
 
 Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
@@ -138,6 +165,7 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
   const Chain chain = ParseChain(ReadFileToString(path), path, options.base_link, options.tip_link);
   std::vector<JointType> types;
   for (const auto& joint : chain.joints) {
+    CheckNumbers(*joint, path);
     if (IsMoving(*joint)) types.push_back(joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute);
   }
   if (types.empty()) {
@@ -157,7 +185,6 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
       continue;
     }
     const int i = static_cast<int>(source.joints.size());
-    if (!(Axis(*joint).norm() > 0.0)) ThrowInputError(path + ": joint '" + joint->name + "' has a zero axis");
     model.SetJoint(i, pending * origin, Axis(*joint));
     pending = Eigen::Isometry3d::Identity();
     source.joints.push_back(joint->name);
