@@ -251,7 +251,8 @@ void SetLimits(TiXmlElement* joint, const Robot& robot, int i, const urdf::Joint
 
 std::map<std::string, TiXmlElement*> JointElements(TiXmlDocument* doc) {
   std::map<std::string, TiXmlElement*> out;
-  TiXmlElement* root = doc->RootElement();
+  // The element urdfdom reads (not RootElement(): elements may come before <robot>).
+  TiXmlElement* root = doc->FirstChildElement("robot");
   for (TiXmlElement* e = root ? root->FirstChildElement("joint") : nullptr; e; e = e->NextSiblingElement("joint")) {
     if (e->Attribute("name")) out[e->Attribute("name")] = e;
   }

@@ -184,6 +184,19 @@ TEST(BadInput, AGantryOfPerpendicularSlidesIsWrittenAsUrdf) {
   for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << i;
 }
 
+TEST(BadInput, AUrdfWithElementsBeforeTheRobotIsWrittenBack) {
+  // Found by the urdf fuzz harness: urdfdom reads the <robot> element wherever it is, the writer took
+  // the document's first element and ended in map::at (status 1).
+  TempDir dir;
+  const std::string urdf = dir.path("robot.urdf");
+  WriteText(urdf, "<note/>\n" + Urdf({"base_link", "a", "b"}, {Joint("j", "revolute", "base_link", "a"),
+                                                                 Joint("t", "fixed", "a", "b", "<origin xyz=\"0.1 0 0\"/>")}));
+  const auto imported = RunKincal("import " + urdf + " --base base_link --tip b --out " + dir.path("robot.yaml"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const auto written = RunKincal("convert " + dir.path("robot.yaml") + " --to urdf --out " + dir.path("back.urdf"));
+  EXPECT_EQ(written.exit_code, 0) << written.err;
+}
+
 TEST(BadInput, InvalidOptionsNameTheOptionsFile) {
   TempDir dir;
   const std::string options = dir.path("options.yaml");
