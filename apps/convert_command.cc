@@ -6,6 +6,7 @@
 
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
+#include "framework/error.h"
 #include "framework/robot_file.h"
 #include "models/conversion.h"
 #include "models/urdf_io.h"
@@ -28,13 +29,22 @@ void AddConvertCommand(CLI::App& app) {
       ->required();
   cmd->callback([=]() {
     const Robot robot = ReadRobotFile(*robot_path);
+    // A robot that has no exact form in the convention asked for is refused by the conversion, which
+    // knows no file: the message names the robot file (a URDF source names itself).
+    auto named = [&](auto&& convert) {
+      try {
+        return convert();
+      } catch (const std::invalid_argument& e) {
+        ThrowInputError(*robot_path + ": " + e.what());
+      }
+    };
     if (*to == "urdf" && (EndsWith(*out, ".urdf") || EndsWith(*out, ".xml"))) {
-      WriteFileAtomically(*out, RobotToUrdf(robot));
+      WriteFileAtomically(*out, robot.urdf ? RobotToUrdf(robot) : named([&] { return RobotToUrdf(robot); }));
       std::cout << "wrote " << *out << " (URDF"
                 << (robot.urdf ? ", edited from " + robot.urdf->path + "; the base is not part of it" : "") << ")\n";
       return;
     }
-    const Robot result = robot.WithModel(ConvertModel(robot.model(), *to));
+    const Robot result = robot.WithModel(named([&] { return ConvertModel(robot.model(), *to); }));
     WriteRobotFile(result, *out);
     std::cout << "wrote " << *out << " (" << *to << ")\n";
   });

@@ -19,5 +19,9 @@ int FuzzOptions(const uint8_t* data, size_t size);
 // A robot file, a line "@@", then a dataset: a short identify (least_squares) and compensate (jacobian)
 // of the first rows when both readers accept them.
 int FuzzPipeline(const uint8_t* data, size_t size);
+// A URDF, optionally after a line "@@ BASE TIP [CONVENTION]": imported between those links (or else
+// between the root and each link); an accepted robot is written as a robot file and as URDF (the
+// source edited, and a new file), and each must read back with the same kinematics.
+int FuzzUrdf(const uint8_t* data, size_t size);
 
 }  // namespace kincal::fuzz

@@ -19,7 +19,8 @@ struct NamedHarness {
 const NamedHarness kHarnesses[] = {
     {"robot_file", kincal::fuzz::FuzzRobotFile}, {"dataset", kincal::fuzz::FuzzDataset},
     {"targets", kincal::fuzz::FuzzTargets},      {"study_file", kincal::fuzz::FuzzStudyFile},
-    {"options", kincal::fuzz::FuzzOptions},      {"pipeline", kincal::fuzz::FuzzPipeline}};
+    {"options", kincal::fuzz::FuzzOptions},      {"pipeline", kincal::fuzz::FuzzPipeline},
+    {"urdf", kincal::fuzz::FuzzUrdf}};
 
 }  // namespace
 

@@ -181,22 +181,19 @@ std::unique_ptr<KinematicModel> ToMdh(const KinematicModel& model) {
   return MdhFromAxes(model);
 }
 
-// URDF rows from local POE rows: the same joint frames, the joint offset folded into the origin.
+// URDF rows from the local POE model's joint frames (PoeModel::JointFrames): each origin is the joint
+// frame in its parent's, the axis z. Not from POE's numbers: a URDF origin is any pose, while a POE row
+// cannot hold a prismatic axis across its parent's z (two perpendicular slides of a gantry).
 std::unique_ptr<KinematicModel> UrdfFromModel(const KinematicModel& model) {
-  const PoeModel poe = PoeModel::FromModel(model);
+  const std::vector<Eigen::Isometry3d> frames = PoeModel::JointFrames(model);
   auto urdf = std::make_unique<UrdfModel>(JointTypes(model));
+  Eigen::Isometry3d parent = model.base();
   for (int i = 0; i < model.dof(); ++i) {
-    const std::string s = "_" + std::to_string(i + 1);
-    const bool revolute = model.joint_type(i) == JointType::kRevolute;
-    const Eigen::Vector3d xyz(poe.Parameter("x" + s), poe.Parameter("y" + s), revolute ? poe.Parameter("z" + s) : 0.0);
-    Eigen::Isometry3d T = PoseFromXyzRpy(xyz, Eigen::Vector3d(poe.Parameter("roll" + s), poe.Parameter("pitch" + s),
-                                                              poe.Parameter("yaw" + s)));
-    if (!revolute) T.translate(Eigen::Vector3d(0, 0, poe.Parameter("z" + s)));
-    T.rotate(Eigen::AngleAxisd(poe.Parameter("theta" + s), Eigen::Vector3d::UnitZ()));
-    urdf->SetJoint(i, T, Eigen::Vector3d::UnitZ());
+    urdf->SetJoint(i, parent.inverse() * frames[i], Eigen::Vector3d::UnitZ());
+    parent = frames[i];
   }
-  urdf->SetBase(poe.base());
-  urdf->SetTool(poe.tool());
+  urdf->SetBase(model.base());
+  urdf->SetTool(parent.inverse() * model.ForwardKinematics(Eigen::VectorXd::Zero(model.dof())));
   return urdf;
 }
 

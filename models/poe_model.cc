@@ -34,11 +34,8 @@ PoeModel::PoeModel(std::vector<JointType> joint_types) {
   BuildChain(std::move(joint_types), std::move(info), std::move(ops));
 }
 
-PoeModel PoeModel::FromModel(const KinematicModel& model) {
+std::vector<Eigen::Isometry3d> PoeModel::JointFrames(const KinematicModel& model) {
   const int n = model.dof();
-  std::vector<JointType> types;
-  for (int i = 0; i < n; ++i) types.push_back(model.joint_type(i));
-  PoeModel poe(types);
   const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(n);
   const Eigen::Isometry3d T_meas_tool = model.ForwardKinematics(q0);
   const Matrix6Xd J = model.JointJacobian(q0);
@@ -67,6 +64,16 @@ PoeModel PoeModel::FromModel(const KinematicModel& model) {
     joint_frames.push_back(F);
     previous = F;
   }
+  return joint_frames;
+}
+
+PoeModel PoeModel::FromModel(const KinematicModel& model) {
+  const int n = model.dof();
+  std::vector<JointType> types;
+  for (int i = 0; i < n; ++i) types.push_back(model.joint_type(i));
+  PoeModel poe(types);
+  const Eigen::Isometry3d T_meas_tool = model.ForwardKinematics(Eigen::VectorXd::Zero(n));
+  const std::vector<Eigen::Isometry3d> joint_frames = JointFrames(model);
   Eigen::VectorXd p = poe.Parameters();
   Eigen::Isometry3d parent = model.base();
   for (int i = 0; i < n; ++i) {

@@ -25,6 +25,10 @@ class PoeModel final : public ChainModel {
   // The local POE model with the same forward kinematics as `model` for every q (any convention):
   // joint frames are placed on the joint axes of `model` at q = 0, base and tool carried over.
   static PoeModel FromModel(const KinematicModel& model);
+  // The joint frames FromModel places, in the measurement frame at q = 0: z along each joint axis, the
+  // origin on it (a revolute axis: its point nearest the previous frame's origin; a prismatic joint:
+  // the previous frame's origin), x the previous frame's x made perpendicular to z.
+  static std::vector<Eigen::Isometry3d> JointFrames(const KinematicModel& model);
 };
 
 }  // namespace kincal

@@ -5,8 +5,10 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <console_bridge/console.h>
@@ -44,6 +46,46 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
 
 bool IsMoving(const urdf::Joint& joint) { return joint.type != urdf::Joint::FIXED; }
 
+// urdfdom checks for a single root link, not for loops: it accepts a link that is its own parent, or
+// joints a -> b and b -> a apart from the root. Its links own their children, so such a model is never
+// freed (not even when it then refuses the file), and a walk up from such a link never ends. Refused
+// here, at the joint, before urdfdom sees the file. A link with two parent joints is refused too (it
+// is how a loop through the root starts; urdfdom would keep the last parent).
+void CheckTree(const TiXmlDocument& xml, const std::string& path) {
+  const TiXmlElement* robot = xml.FirstChildElement("robot");
+  if (!robot) return;  // urdfdom says what is wrong
+  struct Parent {
+    std::string link;
+    const TiXmlElement* joint;
+  };
+  std::map<std::string, Parent> parent_of;  // child link -> its parent link and joint
+  for (const TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const TiXmlElement* parent = j->FirstChildElement("parent");
+    const TiXmlElement* child = j->FirstChildElement("child");
+    const char* parent_link = parent ? parent->Attribute("link") : nullptr;
+    const char* child_link = child ? child->Attribute("link") : nullptr;
+    if (!parent_link || !child_link) continue;  // urdfdom refuses the joint
+    if (!parent_of.emplace(child_link, Parent{parent_link, j}).second) {
+      ThrowInputError(path, j->Row(), j->Column(),
+                      std::string("link '") + child_link + "' has a second parent joint (a URDF must be a tree)");
+    }
+  }
+  // Walk up from every link; links already known to reach a root end the walk (linear in the joints).
+  std::set<std::string> reach_root;
+  for (const auto& [start, unused] : parent_of) {
+    std::set<std::string> path_links;
+    std::string link = start;
+    for (auto it = parent_of.find(link); it != parent_of.end() && !reach_root.count(link); it = parent_of.find(link)) {
+      if (!path_links.insert(link).second) {
+        ThrowInputError(path, it->second.joint->Row(), it->second.joint->Column(),
+                        "the joints above link '" + link + "' form a loop (a URDF must be a tree)");
+      }
+      link = it->second.link;
+    }
+    reach_root.insert(path_links.begin(), path_links.end());
+  }
+}
+
 struct Chain {
   urdf::ModelInterfaceSharedPtr model;
   std::vector<urdf::JointConstSharedPtr> joints;  // base to tip
@@ -55,6 +97,7 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
   TiXmlDocument xml;
   xml.Parse(text.c_str());
   if (xml.Error()) ThrowInputError(path, xml.ErrorRow(), xml.ErrorCol(), std::string("invalid XML: ") + xml.ErrorDesc());
+  CheckTree(xml, path);
   Chain chain;
   {
     CaptureErrors errors;
@@ -88,6 +131,33 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
 
 Eigen::Vector3d Axis(const urdf::Joint& joint) { return {joint.axis.x, joint.axis.y, joint.axis.z}; }
 
+// urdfdom reads any finite double. The robot file kincal import writes holds lengths in mm and angles
+// in deg (and may be rewritten in um): a number beyond 1e300 (m, rad, m/s) would overflow there, so it
+// is refused here. An axis is only a direction, but its length must be a finite, non-zero number.
+void CheckNumbers(const urdf::Joint& joint, const std::string& path) {
+  constexpr double kLargest = 1e300;
+  const auto check = [&](double value, const char* what) {
+    if (!(std::abs(value) <= kLargest)) {
+      ThrowInputError(path + ": joint '" + joint.name + "' has " + what + " " + FormatExact(value) +
+                      ", beyond the +-1e300 a robot file can hold");
+    }
+  };
+  const urdf::Vector3& p = joint.parent_to_joint_origin_transform.position;
+  for (const double v : {p.x, p.y, p.z}) check(v, "an origin coordinate");
+  if (joint.limits) {
+    check(joint.limits->lower, "a lower limit");
+    check(joint.limits->upper, "an upper limit");
+    check(joint.limits->velocity, "a velocity limit");
+  }
+  if (IsMoving(joint)) {
+    const double norm = Axis(joint).norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) {
+      ThrowInputError(path + ": joint '" + joint.name + "' has an axis of length " + FormatExact(norm) +
+                      " (expected a finite, non-zero direction)");
+    }
+  }
+}
+
 }  // namespace
 
 Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
@@ -95,6 +165,7 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
   const Chain chain = ParseChain(ReadFileToString(path), path, options.base_link, options.tip_link);
   std::vector<JointType> types;
   for (const auto& joint : chain.joints) {
+    CheckNumbers(*joint, path);
     if (IsMoving(*joint)) types.push_back(joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute);
   }
   if (types.empty()) {
@@ -114,7 +185,6 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
       continue;
     }
     const int i = static_cast<int>(source.joints.size());
-    if (!(Axis(*joint).norm() > 0.0)) ThrowInputError(path + ": joint '" + joint->name + "' has a zero axis");
     model.SetJoint(i, pending * origin, Axis(*joint));
     pending = Eigen::Isometry3d::Identity();
     source.joints.push_back(joint->name);
@@ -133,7 +203,16 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
   if (limits_ok) urdf_robot.limits = limits;
   if (velocity_ok) urdf_robot.velocity_limits = velocity;
   urdf_robot.urdf = source;
-  return urdf_robot.WithModel(ConvertModel(model, options.convention));
+  // Not every chain has an exact form in every convention (a prismatic axis across its parent's z has
+  // none in poe): the refusal names the file, as the reader's own errors do.
+  std::unique_ptr<KinematicModel> converted;
+  try {
+    converted = ConvertModel(model, options.convention);
+  } catch (const std::invalid_argument& e) {
+    ThrowInputError(path + ": the chain from '" + options.base_link + "' to '" + options.tip_link +
+                    "' cannot be written in the " + options.convention + " convention: " + e.what());
+  }
+  return urdf_robot.WithModel(std::move(converted));
 }
 
 namespace {
@@ -172,7 +251,8 @@ void SetLimits(TiXmlElement* joint, const Robot& robot, int i, const urdf::Joint
 
 std::map<std::string, TiXmlElement*> JointElements(TiXmlDocument* doc) {
   std::map<std::string, TiXmlElement*> out;
-  TiXmlElement* root = doc->RootElement();
+  // The element urdfdom reads (not RootElement(): elements may come before <robot>).
+  TiXmlElement* root = doc->FirstChildElement("robot");
   for (TiXmlElement* e = root ? root->FirstChildElement("joint") : nullptr; e; e = e->NextSiblingElement("joint")) {
     if (e->Attribute("name")) out[e->Attribute("name")] = e;
   }

@@ -3,8 +3,10 @@
 // one, the line and column. Each case here was an escape (exit status 1, or a message without the file)
 // before issue 10, or is a shape of damage files really have: truncated, binary, wrong encoding.
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -101,6 +103,98 @@ TEST(BadInput, DamagedRobotFilesEndInStatusTwoNamingFileAndLine) {
       EXPECT_EQ(r.err.rfind("kincal: " + robot, 0), 0u) << r.err;
     }
   }
+}
+
+// A URDF of the links and joints given (the joints one per line from line 3).
+std::string Urdf(const std::vector<std::string>& links, const std::vector<std::string>& joints) {
+  std::string text = "<robot name=\"r\">\n ";
+  for (const std::string& link : links) text += " <link name=\"" + link + "\"/>";
+  text += "\n";
+  for (const std::string& joint : joints) text += "  " + joint + "\n";
+  return text + "</robot>\n";
+}
+std::string Joint(const std::string& name, const std::string& type, const std::string& parent, const std::string& child,
+                  const std::string& inner = "<axis xyz=\"0 0 1\"/>") {
+  const std::string limit = type == "revolute" || type == "prismatic"
+                                ? "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>" : "";
+  return "<joint name=\"" + name + "\" type=\"" + type + "\"><parent link=\"" + parent + "\"/><child link=\"" + child +
+         "\"/>" + inner + limit + "</joint>";
+}
+
+TEST(BadInput, DamagedUrdfsEndInStatusTwoNamingTheFile) {
+  // Found by the urdf fuzz harness (fuzz/regressions/urdf/): loops hung kincal import, a number beyond
+  // what a robot file holds was written as inf, a conversion's refusal did not name the file.
+  TempDir dir;
+  const std::string urdf = dir.path("robot.urdf");
+  const auto import = [&](const std::string& tip, const std::string& more = "") {
+    return "import " + urdf + " --base base_link --tip " + tip + " --out " + dir.path("robot.yaml") + more;
+  };
+  struct Case {
+    std::string text, tip, more, where;
+  };
+  const std::vector<Case> cases = {
+      // A link that is its own parent (joint on line 3), and a loop a -> b -> a apart from the root (line 4).
+      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("aa", "revolute", "a", "a")}), "a", "", ":4:3: the joints above link 'a' form a loop"},
+      {Urdf({"base_link", "a", "b", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("ab", "revolute", "a", "b"), Joint("ba", "fixed", "b", "a")}), "a", "", ":5:3: the joints above link 'a' form a loop"},
+      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "a"), Joint("j2", "revolute", "c", "a")}), "a", "", ":4:3: link 'a' has a second parent joint"},
+      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<origin xyz=\"0 1e308 0\"/><axis xyz=\"0 0 1\"/>")}), "a", "", ": joint 'j' has an origin coordinate 1e+308"},
+      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"1e200 1e200 0\"/>")}), "a", "", ": joint 'j' has an axis of length inf"},
+      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"0 0 0\"/>")}), "a", "", ": joint 'j' has an axis of length 0"},
+      // Two perpendicular slides have no POE rows (a prismatic axis across its parent's z).
+      {Urdf({"base_link", "a", "b"}, {Joint("x", "prismatic", "base_link", "a", "<axis xyz=\"1 0 0\"/>"), Joint("z", "prismatic", "a", "b")}), "b",
+       " --convention poe", ": the chain from 'base_link' to 'b' cannot be written in the poe convention"},
+  };
+  for (const Case& c : cases) {
+    WriteText(urdf, c.text);
+    ExpectBadInput(import(c.tip, c.more), urdf, c.where);
+  }
+}
+
+TEST(BadInput, AGantryOfPerpendicularSlidesIsWrittenAsUrdf) {
+  // Found by the urdf fuzz harness: `convert --to urdf` went through POE's rows, which cannot hold a
+  // prismatic axis across its parent's z, and refused this robot (without naming the file).
+  TempDir dir;
+  const std::string robot = dir.path("gantry.yaml");
+  WriteText(robot, "name: gantry\nconvention: dh\nunits: {length: mm, angle: deg}\njoints:\n"
+                   "  - {theta: 0, d: 100, a: 0, alpha: 90, type: prismatic}\n"
+                   "  - {theta: 0, d: 50, a: 20, alpha: 0, type: prismatic}\n"
+                   "  - {theta: 0, d: 10, a: 0, alpha: 0}\n"
+                   "limits: [[0, 500], [0, 300], [-90, 90]]\n");
+  const auto r = RunKincal("convert " + robot + " --to urdf --out " + dir.path("gantry.urdf"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto back = RunKincal("import " + dir.path("gantry.urdf") + " --base world --tip tool0 --convention dh --out " +
+                              dir.path("again.yaml"));
+  ASSERT_EQ(back.exit_code, 0) << back.err;
+  // The same pose from both robot files (JSON: the 4x4 matrix in mm), to rounding.
+  const auto fk = [&](const std::string& file) {
+    const auto result = RunKincal("fk " + file + " --q=120,80,30");
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    std::string text = result.out.substr(0, result.out.find("units"));
+    for (char& c : text) {
+      if (!std::isdigit(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != 'e') c = ' ';
+    }
+    std::istringstream in(text);
+    std::vector<double> numbers;
+    for (double v; in >> v;) numbers.push_back(v);
+    return numbers;
+  };
+  const std::vector<double> a = fk(robot), b = fk(dir.path("again.yaml"));
+  ASSERT_EQ(a.size(), 16u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << i;
+}
+
+TEST(BadInput, AUrdfWithElementsBeforeTheRobotIsWrittenBack) {
+  // Found by the urdf fuzz harness: urdfdom reads the <robot> element wherever it is, the writer took
+  // the document's first element and ended in map::at (status 1).
+  TempDir dir;
+  const std::string urdf = dir.path("robot.urdf");
+  WriteText(urdf, "<note/>\n" + Urdf({"base_link", "a", "b"}, {Joint("j", "revolute", "base_link", "a"),
+                                                                 Joint("t", "fixed", "a", "b", "<origin xyz=\"0.1 0 0\"/>")}));
+  const auto imported = RunKincal("import " + urdf + " --base base_link --tip b --out " + dir.path("robot.yaml"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const auto written = RunKincal("convert " + dir.path("robot.yaml") + " --to urdf --out " + dir.path("back.urdf"));
+  EXPECT_EQ(written.exit_code, 0) << written.err;
 }
 
 TEST(BadInput, InvalidOptionsNameTheOptionsFile) {
