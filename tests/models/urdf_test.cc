@@ -175,7 +175,7 @@ TEST(Conversion, UnknownConventionIsOneLine) {
 
 TEST(UrdfModel, AxisAnglesAndJointsRoundTrip) {
   UrdfModel m(2);
-  for (const Eigen::Vector3d axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 0, 0),
+  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 0, 0),
                                      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0.3, -0.4, 0.5)}) {
     const Eigen::Isometry3d T = PoseFromXyzRpy(Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(0.4, -0.5, 0.6));
     m.SetJoint(1, T, axis);
