@@ -1,9 +1,16 @@
 #pragma once
-// Numerical inverse kinematics of a model, for targets that carry no controller solution: damped least
-// squares on the 6-D pose error (position and rotation log), restarted from deterministic random
-// configurations within the joint limits until one converges within the limits. Revolute joints are
-// wrapped by multiples of 2 pi into their limits where possible; a solution that stays outside them is
-// returned only when no start finds one inside (within_limits = false).
+// Numerical inverse kinematics of a model, for targets that carry no controller solution and arms without
+// a closed form: Levenberg-Marquardt on the 6-D pose error (position and rotation log), restarted from
+// deterministic random configurations within the joint limits until one converges within the limits.
+//
+// Each descent keeps the joints inside their limits (revolute joints moved by whole turns where that
+// brings them in, else clamped onto the nearer limit), so that a start converges to a solution the robot
+// can take; its damping follows the gain ratio (Nielsen 1999: shrink after a good step, double after a
+// rejected one), which lets it cross singular configurations and converge at them, where a fixed damping
+// either stalls or jumps. A descent ends at convergence, when the cost has not halved in
+// `stall_iterations` iterations (a local minimum or a crawl: restarting is cheaper), or at
+// `max_iterations`. When no start converges inside the limits, one last descent from the best start runs
+// without the limits: a solution that exists only outside them is returned with within_limits = false.
 #include <cstdint>
 #include <string>
 
@@ -15,11 +22,12 @@
 namespace kincal {
 
 struct InverseKinematicsOptions {
-  int max_iterations = 100;          // per start
-  int restarts = 20;                 // further starts after the first
+  int max_iterations = 100;          // per start, at most
+  int stall_iterations = 12;         // a start ends when its cost has not halved in this many iterations
+  int restarts = 100;                // further starts after the first (only while none converged)
   double position_tolerance = 1e-10; // m
   double orientation_tolerance = 1e-10;  // rad
-  double damping = 1e-6;             // added to the diagonal, scaled by the largest singular value
+  double damping = 1e-6;             // initial damping, relative to the largest diagonal entry of J^T J
   double length_scale = 1.0;         // m per rad: weight of rotation against position
   uint64_t seed = 1;
   bool IsValid(std::string* why) const;
