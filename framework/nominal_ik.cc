@@ -94,8 +94,8 @@ AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u
   const Vector3d n = w1.cross(w2);
   const double n2 = n.squaredNorm();
   if (n2 < 1e-20) return out;
-  // The free cases first: there the general formula's square root below would turn rounding of 1e-16
-  // into a spurious component of 1e-8 across w1 (or w2), and with it an arbitrary angle.
+  // The free cases first: there c's component across w1 (or w2) is rounding, and the angle it gives
+  // arbitrary.
   const double across_v = (v - w1 * w1.dot(v)).norm(), across_u = (u - w2 * w2.dot(u)).norm();
   if (across_v < 1e-7) {
     *free |= 1;
@@ -108,15 +108,22 @@ AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u
     out.pair[out.size++] = {Subproblem1(w1, u, v), free_b};
     if (across_u < 1e-12) return out;
   }
-  const double alpha = (w1.dot(v) - k * w2.dot(u)) / (1 - k * k);
-  const double beta = (w2.dot(u) - k * w1.dot(v)) / (1 - k * k);
-  double g2 = (u.squaredNorm() - alpha * alpha - beta * beta - 2 * alpha * beta * k) / n2;
+  const double h1 = w1.dot(v), h2 = w2.dot(u);  // the heights of c
+  const double alpha = (h1 - k * h2) / (1 - k * k);
+  const double beta = (h2 - k * h1) / (1 - k * k);
+  // c = alpha w1 + beta w2 + g n with g^2 n2 = |c|^2 - |alpha w1 + beta w2|^2. Written as that difference it
+  // loses all accuracy next to the free cases (both terms 1, the difference eps^2 for v eps off w1);
+  // with |c| = |v| split into its part along n and its heights, (w1.v, w2.v), the difference is
+  //     g^2 n2^2 = (v.n)^2 + (w2.v - h2) (w2.v + h2 - 2 k h1)
+  // (or the same with u, w2 and w1, h1 exchanged), products of small terms each accurate to rounding.
+  const double g2 = across_v <= across_u
+                        ? (std::pow(v.dot(n), 2) + (w2.dot(v) - h2) * (w2.dot(v) + h2 - 2 * k * h1)) / (n2 * n2)
+                        : (std::pow(u.dot(n), 2) + (w1.dot(u) - h1) * (w1.dot(u) + h1 - 2 * k * h2)) / (n2 * n2);
   if (g2 < -1e-8) return out;
-  g2 = std::max(g2, 0.0);
   for (double sign : {1.0, -1.0}) {
-    const Vector3d c = alpha * w1 + beta * w2 + sign * std::sqrt(g2) * n;
+    const Vector3d c = alpha * w1 + beta * w2 + sign * std::sqrt(std::max(g2, 0.0)) * n;
     out.pair[out.size++] = {Subproblem1(w1, c, v), Subproblem1(w2, u, c)};
-    if (g2 == 0.0) break;  // one intermediate: the two pairs are the same
+    if (g2 <= 0.0) break;  // one intermediate: the two pairs are the same
   }
   return out;
 }
@@ -276,13 +283,17 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
   Positions out;
   const double kAB = A.w.dot(B.w);
   const bool parallel = 1 - kAB * kAB <= 1e-12;
-  // Points on A and B at their common perpendicular (so that d = 0 when they meet).
+  const double length = 1.0 + p.norm() + p0.norm();
+  // Points on A and B at their common perpendicular (so that d = 0 when they meet), unless that is far
+  // away (nearly parallel axes): the equations hold for any points, and far ones would cost precision.
   if (!parallel) {
     const Vector3d r = B.p - A.p;
     const double s = (A.w.dot(r) - kAB * B.w.dot(r)) / (1 - kAB * kAB);
     const double t = (kAB * A.w.dot(r) - B.w.dot(r)) / (1 - kAB * kAB);
-    A.p += s * A.w;
-    B.p += t * B.w;
+    if (std::abs(s) <= 1e3 * length && std::abs(t) <= 1e3 * length) {
+      A.p += s * A.w;
+      B.p += t * B.w;
+    }
   }
   const Vector3d d = B.p - A.p;
   const double rho = (p - A.p).squaredNorm(), h = A.w.dot(p - A.p);
@@ -306,9 +317,9 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
     return k;
   };
   // The first equation is in length^2, the second in length: both are compared divided by those.
-  const double length = 1.0 + p.norm() + p0.norm();
   constexpr double kNegligible = 1e-10;
   FixedList<double, 8> roots;
+  int b_from = 0;  // the equation(s) that give b: 0 both, 1 or 2 that one alone
   const auto push_root = [&](double c) {
     for (double r : roots) {
       if (std::abs(WrapAngle(r - c)) < 1e-12) return;
@@ -436,6 +447,9 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
                                         length * length, x, &all);
     if (all) free_c();
     for (int i = 0; i < count; ++i) push_root(x[i]);
+    // The other equation gives b: the one used for c has lost it (to within the rounding, or the small
+    // angle of nearly parallel axes, which would make b from it arbitrary).
+    b_from = parallel ? 1 : 2;
   } else {
     eliminant_roots();
   }
@@ -446,13 +460,14 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
     const double L2 = length * length;
     const double n1 = std::hypot(k.a1, k.b1) / L2, n2 = std::hypot(k.a2, k.b2) / length;
     const double D = (k.a1 * k.b2 - k.a2 * k.b1) / (L2 * length);
-    if (n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
+    if (b_from == 0 && n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
       bs[count++] = std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D);
     } else {
       // The two equations are dependent in (cos b, sin b), or one has lost b: use the stronger one.
       bool all = false;
-      count = n1 >= n2 ? circle(k.a1 / L2, k.b1 / L2, k.g1 / L2, 1.0, bs, &all)
-                       : circle(k.a2 / length, k.b2 / length, k.g2 / length, 1.0, bs, &all);
+      const bool first = b_from == 0 ? n1 >= n2 : b_from == 1;
+      count = first ? circle(k.a1 / L2, k.b1 / L2, k.g1 / L2, 1.0, bs, &all)
+                    : circle(k.a2 / length, k.b2 / length, k.g2 / length, 1.0, bs, &all);
       if (all) {
         // Neither equation depends on b: E_C(c) p0 is on B (or A and B are one line), every b does if
         // both hold.
@@ -532,7 +547,10 @@ struct NominalInverseKinematics::Impl {
   void ParallelBranches(const Isometry3d& M, const Vector6d& free, BranchList* out, int* free_mask) const;
   // The solution a controller takes among `branches` (ranked: inside the limits, the named
   // configuration, the distance to the reference), polished; false when none reaches the pose.
-  bool Choose(const Isometry3d& T, const VectorXd& reference, BranchList* branches, IkSolution* s) const;
+  // *unfinished: the polished joints of the first candidate inside the limits that did not reach it
+  // (next to a singular configuration, where the closed form loses accuracy), else empty.
+  bool Choose(const Isometry3d& T, const VectorXd& reference, BranchList* branches, IkSolution* s,
+              VectorXd* unfinished = nullptr) const;
   // A pose whose solution family is continuous (free joints in free_mask) and whose member at the
   // reference leaves the limits: the member inside the limits whose free joint is closest to the
   // reference's (one free joint moved at a time); false when no member is inside.
@@ -545,7 +563,9 @@ struct NominalInverseKinematics::Impl {
   bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q, bool* clamped = nullptr) const;
   bool Singular(const VectorXd& q) const;
   bool MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const;
-  IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference) const;
+  // The numeric solver from `start` (the reference when empty), with `restarts` (< 0: the options').
+  IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference, const VectorXd& start = {},
+                     int restarts = -1) const;
 };
 
 void NominalInverseKinematics::Impl::Detect() {
@@ -862,9 +882,12 @@ bool NominalInverseKinematics::Impl::MatchesConfiguration(const Eigen::Ref<const
   return true;
 }
 
-IkSolution NominalInverseKinematics::Impl::Numeric(const Isometry3d& T, bool orientation,
-                                                   const VectorXd& reference) const {
-  const InverseKinematicsResult r = SolveInverseKinematics(robot, T, orientation, reference, options.numeric);
+IkSolution NominalInverseKinematics::Impl::Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference,
+                                                   const VectorXd& start, int restarts) const {
+  InverseKinematicsOptions numeric = options.numeric;
+  if (restarts >= 0) numeric.restarts = restarts;
+  const InverseKinematicsResult r =
+      SolveInverseKinematics(robot, T, orientation, start.size() == n ? start : reference, numeric);
   IkSolution s;
   s.q = r.q.allFinite() ? r.q : reference;
   s.position_error = std::isfinite(r.position_error) ? r.position_error : INFINITY;
@@ -919,7 +942,8 @@ std::string NominalInverseKinematics::method() const {
 bool NominalInverseKinematics::has_closed_form() const { return impl_->kind != Impl::Kind::kNumeric; }
 
 bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd& ref, BranchList* branches,
-                                            IkSolution* s) const {
+                                            IkSolution* s, VectorXd* unfinished) const {
+  if (unfinished) unfinished->resize(0);
   // Rank: inside the limits, then the named configuration, then the distance to the reference.
   struct Candidate {
     int rank;
@@ -938,51 +962,68 @@ bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd&
   std::sort(candidates, candidates + count, [](const Candidate& a, const Candidate& b) {
     return a.rank != b.rank ? a.rank < b.rank : a.distance < b.distance;
   });
+  // The first candidate that reaches the pose inside the limits. One ranked inside before the polish may
+  // end outside after it (next to a singular configuration the polish can move far): then the next
+  // candidates, with the first that reached as the fallback.
+  bool reached_outside = false;
+  IkSolution fallback;
   for (int c = 0; c < count; ++c) {
-    s->q = branches->item[candidates[c].branch];
-    s->branch = candidates[c].branch;
-    s->closed_form = true;
-    Polish(T, &s->q, &s->position_error, &s->orientation_error);
-    if (!(s->position_error <= options.position_tolerance && s->orientation_error <= options.orientation_tolerance)) {
+    IkSolution t;
+    t.q = branches->item[candidates[c].branch];
+    t.branch = candidates[c].branch;
+    t.closed_form = true;
+    Polish(T, &t.q, &t.position_error, &t.orientation_error);
+    if (!(t.position_error <= options.position_tolerance && t.orientation_error <= options.orientation_tolerance)) {
+      if (unfinished && unfinished->size() == 0 && candidates[c].rank < 2) *unfinished = t.q;
       continue;
     }
     bool clamped = false;
-    const bool inside = WrapIntoLimits(ref, s->q, &clamped);
+    const bool inside = WrapIntoLimits(ref, t.q, &clamped);
     if (clamped) {
       // On a limit: the errors of the joints as returned.
-      const Vector6d e = PoseError(robot.model().ForwardKinematics(s->q), T);
-      s->position_error = e.head<3>().norm();
-      s->orientation_error = e.tail<3>().norm();
-      if (!(s->position_error <= options.position_tolerance && s->orientation_error <= options.orientation_tolerance)) {
+      const Vector6d e = PoseError(robot.model().ForwardKinematics(t.q), T);
+      t.position_error = e.head<3>().norm();
+      t.orientation_error = e.tail<3>().norm();
+      if (!(t.position_error <= options.position_tolerance && t.orientation_error <= options.orientation_tolerance)) {
         continue;
       }
     }
-    s->status = !inside ? IkStatus::kOutOfLimits : Singular(s->q) ? IkStatus::kSingular : IkStatus::kSolved;
-    return true;
+    if (inside) {
+      t.status = Singular(t.q) ? IkStatus::kSingular : IkStatus::kSolved;
+      *s = t;
+      return true;
+    }
+    t.status = IkStatus::kOutOfLimits;
+    if (!reached_outside) fallback = t;
+    reached_outside = true;
+    if (candidates[c].rank >= 2) break;  // the rest were outside before the polish too
   }
-  return false;
+  if (reached_outside) *s = fallback;
+  return reached_outside;
 }
 
 bool NominalInverseKinematics::Impl::SearchFamily(const Isometry3d& T, const VectorXd& ref, int free_mask,
                                                   IkSolution* s) const {
   // Whether a raw branch with free joint j at t reaches the pose (to the closed form's rounding, before the
-  // polish) inside the limits.
+  // polish) inside the limits; `strict`: without the slack that clamps a joint on a limit (the bisection
+  // then ends inside, where the polished solution needs no clamp that would cost pose accuracy).
   VectorXd free = ref;
-  const auto inside_at = [&](int j, double t) {
+  const auto inside_at = [&](int j, double t, bool strict) {
     free[j] = t;
     int mask = 0;
     const BranchList branches = Branches(T, free, &mask);
     free[j] = ref[j];
     for (int b = 0; b < branches.size; ++b) {
       Vector6d q = branches.item[b];
-      if (!q.allFinite() || !WrapIntoLimits(ref, q)) continue;
+      bool clamped = false;
+      if (!q.allFinite() || !WrapIntoLimits(ref, q, &clamped) || (strict && clamped)) continue;
       const Vector6d e = PoseError(robot.model().ForwardKinematics(q), T);
       if (e.head<3>().norm() <= 1e-6 && e.tail<3>().norm() <= 1e-6) return true;
     }
     return false;
   };
   // Samples every 2 pi / 16 outwards from the reference's value, both ways; at the first inside, the
-  // edge of the limits between it and the sample before (outside), by bisection to ~4e-10 rad.
+  // edge of the limits between it and the sample before (outside), by bisection to ~4e-13 rad.
   constexpr int kSamples = 16;
   constexpr double kStep = 2 * M_PI / kSamples;
   int best_joint = -1;
@@ -994,12 +1035,12 @@ bool NominalInverseKinematics::Impl::SearchFamily(const Isometry3d& T, const Vec
       for (double sign : {1.0, -1.0}) {
         if (k == kSamples / 2 && sign < 0) continue;  // the same sample as +pi
         if (k * kStep > std::abs(best_shift) + kStep) break;
-        if (!inside_at(j, ref[j] + sign * k * kStep)) continue;
+        if (!inside_at(j, ref[j] + sign * k * kStep, false)) continue;
         found = true;
         double outside = sign * (k - 1) * kStep, inside = sign * k * kStep;
-        for (int it = 0; it < 30; ++it) {
+        for (int it = 0; it < 40; ++it) {
           const double mid = 0.5 * (outside + inside);
-          (inside_at(j, ref[j] + mid) ? inside : outside) = mid;
+          (inside_at(j, ref[j] + mid, true) ? inside : outside) = mid;
         }
         if (std::abs(inside) < std::abs(best_shift)) {
           best_shift = inside;
@@ -1048,13 +1089,21 @@ IkSolution NominalInverseKinematics::Solve(const Isometry3d& T, const VectorXd& 
   int free_mask = 0;
   BranchList branches = m.Branches(T, ref, &free_mask);
   IkSolution s;
-  if (m.Choose(T, ref, &branches, &s)) {
-    // A continuum of solutions whose member with the free joint at the reference leaves the limits:
-    // the free joint moves as little as the limits require.
-    IkSolution inside;
-    if (s.status == IkStatus::kOutOfLimits && free_mask != 0 && m.SearchFamily(T, ref, free_mask, &inside)) return inside;
-    return s;
+  VectorXd unfinished;
+  const bool reached = m.Choose(T, ref, &branches, &s, &unfinished);
+  if (reached && s.status != IkStatus::kOutOfLimits) return s;
+  // A continuum of solutions whose member with the free joint at the reference leaves the limits: the
+  // free joint moves as little as the limits require.
+  IkSolution inside;
+  if (reached && free_mask != 0 && m.SearchFamily(T, ref, free_mask, &inside)) return inside;
+  // A candidate inside the limits that the polish could not finish: within about 1e-8 rad of a singular
+  // configuration, where the closed form's free member (or its general solution) misses by ~1e-9.
+  // The numeric solver, from there.
+  if (unfinished.size() == m.n) {
+    inside = m.Numeric(T, true, ref, unfinished, 0);
+    if (inside.status == IkStatus::kSolved || inside.status == IkStatus::kSingular) return inside;
   }
+  if (reached) return s;
   // No closed form, or no branch reaches the pose (out of reach, or rounding at the edge): numeric.
   return m.Numeric(T, true, ref);
 }
