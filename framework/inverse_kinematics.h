@@ -6,11 +6,12 @@
 // Each descent runs free of the limits (clamping every step into them traps it: with 20 restarts,
 // 91.8-97.9 % of random-configuration poses of random 6R and 7R arms reached, against 99.6-100 % free,
 // measured); its damping follows the gain ratio (shrink after a good step, double, quadruple ... after
-// a refused one), which lets it converge at singular configurations, where a fixed damping stalls. A descent ends at convergence, when its cost
-// has not halved in `stall_iterations` iterations (a local minimum or a crawl: restarting is cheaper), or
-// at `max_iterations`. Its result is moved into the limits by whole turns of revolute joints (a joint
-// within 1e-9 outside a limit is clamped onto it); further starts run only while none has converged
-// inside the limits, and a solution that exists only outside them is returned with within_limits = false.
+// a refused one), which lets it converge at singular configurations, where a fixed damping stalls. A
+// descent ends at convergence, when its cost has not halved in `stall_iterations` iterations (a local
+// minimum or a crawl: restarting is cheaper), or at `max_iterations`. Its result is moved into the
+// limits by whole turns of revolute joints (a joint within 1e-9 outside a limit is clamped onto it);
+// further starts run only while none has converged inside the limits, and a solution that exists only
+// outside them is returned with within_limits = false.
 #include <cstdint>
 #include <string>
 
