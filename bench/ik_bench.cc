@@ -4,7 +4,9 @@
 // the command line: seedless_compensation_bench.cc.
 //
 // Targets: 1000 poses of random configurations within the joint limits (seed 12), no seeds: each solver
-// starts from the middle of the limits.
+// starts from the middle of the limits. IkGrid_Kincal: kincal on 1000 structured configurations instead
+// (every joint a multiple of 45 deg within its limits, seed 12): singular poses (wrists with two axes in
+// line, arms stretched, joints on their limits), where the solution set may be a continuum.
 //
 // KDL is run as its users run it: the default task-space weights L = (1, 1, 1, 0.01, 0.01, 0.01), eps =
 // 1e-9 (its stop test |L e| < eps, on the weighted 6-D error), and a start counts as solved when
@@ -24,11 +26,14 @@
 // rotation difference resolves 1e-9 rad; scored at exact_rate like kincal.
 //
 //   ./build/bench/kincal_ik_bench --benchmark_filter=Ik_ --benchmark_counters_tabular=true
+//   ./build/bench/kincal_ik_bench --benchmark_filter=IkGrid --benchmark_counters_tabular=true
 #include <time.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -53,20 +58,29 @@ struct Arm {
   std::vector<Eigen::Isometry3d> T;
 };
 
-const Arm& GetArm(const std::string& file) {
-  static std::map<std::string, Arm> arms;
-  auto it = arms.find(file);
+// grid: joints on multiples of 45 deg (clamped onto a limit that is one, to the last bit).
+const Arm& GetArm(const std::string& file, bool grid = false) {
+  static std::map<std::pair<std::string, bool>, Arm> arms;
+  auto it = arms.find({file, grid});
   if (it != arms.end()) return it->second;
   Arm arm;
   arm.robot = ReadRobotFile(std::string(KINCAL_SOURCE_DIR) + "/examples/robots/" + file);
   Rng rng(12);
   for (int k = 0; k < kTargets; ++k) {
     Eigen::VectorXd q(arm.robot.dof());
-    for (int j = 0; j < q.size(); ++j) q[j] = rng.Uniform(arm.robot.Limit(j).first, arm.robot.Limit(j).second);
+    for (int j = 0; j < q.size(); ++j) {
+      const auto [low, high] = arm.robot.Limit(j);
+      if (!grid) {
+        q[j] = rng.Uniform(low, high);
+        continue;
+      }
+      const double step = M_PI / 4, k_low = std::ceil(low / step - 1e-9), k_high = std::floor(high / step + 1e-9);
+      q[j] = std::clamp(std::min(k_high, k_low + std::floor(rng.Uniform(0, k_high - k_low + 1))) * step, low, high);
+    }
     arm.q.push_back(q);
     arm.T.push_back(arm.robot.model().ForwardKinematics(q));
   }
-  return arms.emplace(file, std::move(arm)).first->second;
+  return arms.emplace(std::make_pair(file, grid), std::move(arm)).first->second;
 }
 
 // Every joint inside its limits, revolute joints moved by 2 pi where that brings them in (what a user
@@ -135,8 +149,8 @@ void Measure(benchmark::State& state, const Arm& arm, SolveFn solve) {
   state.counters["max_starts"] = start_max;
 }
 
-void BM_Ik_Kincal(benchmark::State& state, const std::string& file) {
-  const Arm& arm = GetArm(file);
+void BM_Ik_Kincal(benchmark::State& state, const std::string& file, bool grid) {
+  const Arm& arm = GetArm(file, grid);
   const NominalInverseKinematics ik(arm.robot);
   const Eigen::VectorXd none;
   Measure(state, arm, [&](int k, int*) { return ik.Solve(arm.T[k], none).q; });
@@ -175,7 +189,10 @@ const char* const kArms[] = {"seed_nominal.yaml", "irb120_mdh.yaml", "ur10_dh.ya
 void Register() {
   for (const char* arm : kArms) {
     const std::string name(arm, std::string(arm).find('.'));
-    benchmark::RegisterBenchmark(("Ik_Kincal/" + name).c_str(), BM_Ik_Kincal, arm)->Iterations(5)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Ik_Kincal/" + name).c_str(), BM_Ik_Kincal, arm, false)
+        ->Iterations(5)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("IkGrid_Kincal/" + name).c_str(), BM_Ik_Kincal, arm, true)
+        ->Iterations(3)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLma/" + name).c_str(), BM_Ik_KdlLma, arm, 1, false)
         ->Iterations(1)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLmaRestarts/" + name).c_str(), BM_Ik_KdlLma, arm, kMaxStarts, false)

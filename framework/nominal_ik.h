@@ -19,6 +19,17 @@
 // Every closed-form branch is polished by Newton steps on the model (so the result is exact to rounding
 // even where the screws were read with rounding error), and every revolute joint is moved by multiples
 // of 2 pi into its limits, to the representative closest to the reference.
+//
+// Singular poses are solved in closed form too. Where the solutions form a continuum (two axes of the
+// wrist in line, so that only the sum of their angles matters; the 3R positioning problem's polynomial
+// vanishing identically; a point on an axis, which frees that axis), the free joint takes the
+// reference's value, as a controller holds it, and the rest is solved exactly by the same subproblems;
+// if that member of the family leaves the joint limits, the free joint moves as little as the limits
+// require. With three parallel axes a singular wrist also moves the elbow's target point, so the free
+// angle is the one closest to the reference that the elbow reaches (possibly the only one, with the
+// elbow stretched). Double roots of the 3R polynomial (two branches meeting) are refined to full
+// precision, and joints on a limit to within 1e-9 rad are clamped onto it: every reachable pose inside
+// the limits is `solved` or `singular` to 1e-9 m and 1e-9 rad, also at joints on multiples of 45 deg.
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,8 +45,10 @@ namespace kincal {
 enum class IkStatus {
   kSolved,       // the pose is reached within tolerance, inside the joint limits
   kOutOfLimits,  // reached, but only outside the joint limits (q is the nearest such solution)
-  kUnreachable,  // no configuration reaches it; q is the best found (least pose error)
-  kSingular,     // reached (or nearest) at a configuration where the Jacobian loses rank
+  kUnreachable,  // neither the closed form nor any start of the numeric solver reaches it; q is the best
+                 // found (least pose error), whatever its singular values
+  kSingular,     // reached inside the limits at a configuration where the Jacobian loses rank
+                 // (sigma_min / sigma_max < singular_ratio); its solutions may form a continuum
 };
 std::string ToString(IkStatus status);
 
@@ -80,13 +93,15 @@ class NominalInverseKinematics {
   bool has_closed_form() const;
 
   // The solution a controller takes: closed form (every branch, the one closest to `reference`, or the
-  // named branch), else numeric from `reference`. reference: the previous target's joints, or empty
-  // (the middle of the limits). Never returns a non-finite q.
+  // named branch; a free joint of a singular pose at the reference's value), else numeric from
+  // `reference`. reference: the previous target's joints, or empty (the middle of the limits). Never
+  // returns a non-finite q.
   IkSolution Solve(const Eigen::Isometry3d& T_meas_tool, const Eigen::VectorXd& reference) const;
   // Position-only target: numeric, from the reference.
   IkSolution SolvePosition(const Eigen::Vector3d& p_meas_tool, const Eigen::VectorXd& reference) const;
   // Every distinct closed-form branch that reaches the pose (inside the limits or not), sorted by
-  // branch index; empty without a closed form or when none reaches it.
+  // branch index; empty without a closed form or when none reaches it. At a singular pose, the member
+  // of each continuous family with its free joint at the reference's value.
   std::vector<IkSolution> AllBranches(const Eigen::Isometry3d& T_meas_tool, const Eigen::VectorXd& reference) const;
 
  private:

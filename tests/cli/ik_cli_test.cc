@@ -1,5 +1,6 @@
-// `kincal ik`: solutions that reach the targets on the robot (read back from the file), a status per row,
-// every branch on request, and bad input as exit status 2 with one line.
+// `kincal ik`: solutions that reach the targets on the robot (read back from the file), a status per row
+// (a singular pose reached: singular; a pose out of reach: unreachable), every branch on request, and
+// bad input as exit status 2 with one line.
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -31,31 +32,35 @@ TEST(IkCli, SolvesEveryTargetAndWritesEveryBranchOnRequest) {
   std::ostringstream targets;
   targets.precision(17);
   targets << "x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
-  const double configurations[3][6] = {{0.3, -1.2, 1.1, -0.5, 1.4, 0.2}, {-2.0, -0.4, 2.0, 1.0, -0.7, 3.0}, {1.0, -2.2, -1.5, 0.4, 2.2, -1.0}};
+  // The fourth: stretched (q3 = 0) with the wrist singular (q5 = 180 deg), one member of a continuum.
+  const double configurations[4][6] = {{0.3, -1.2, 1.1, -0.5, 1.4, 0.2},
+                                        {-2.0, -0.4, 2.0, 1.0, -0.7, 3.0},
+                                        {1.0, -2.2, -1.5, 0.4, 2.2, -1.0},
+                                        {-M_PI / 2, M_PI / 4, 0.0, -M_PI / 2, M_PI, M_PI / 2}};
   for (const auto& c : configurations) {
     const Eigen::Isometry3d T = robot.model().ForwardKinematics(Eigen::Map<const Eigen::VectorXd>(c, 6));
     const Eigen::Quaterniond quat(T.linear());
     targets << T.translation().x() * 1e3 << "," << T.translation().y() * 1e3 << "," << T.translation().z() * 1e3 << ","
             << quat.w() << "," << quat.x() << "," << quat.y() << "," << quat.z() << "\n";
   }
-  // A fourth target 5 m away: unreachable, finite joints.
+  // A fifth target 5 m away: unreachable, finite joints.
   targets << "5000,0,0,1,0,0,0\n";
   testing::WriteText(dir.path("targets.csv"), targets.str());
   const auto r = RunKincal("ik " + robot_file + " --targets " + dir.path("targets.csv") + " --out " + dir.path("q.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = ReadCsv(testing::ReadText(dir.path("q.csv")));
-  ASSERT_EQ(rows.size(), 5u);
+  ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(rows[0][0], "q1_deg");
   EXPECT_EQ(rows[0][6], "status");
-  for (int k = 1; k <= 4; ++k) {
+  for (int k = 1; k <= 5; ++k) {
     Eigen::VectorXd q(6);
     for (int j = 0; j < 6; ++j) q[j] = std::stod(rows[k][j]) * M_PI / 180;
     ASSERT_TRUE(q.allFinite());
-    if (k == 4) {
+    if (k == 5) {
       EXPECT_EQ(rows[k][6], "unreachable");
       continue;
     }
-    EXPECT_EQ(rows[k][6], "solved");
+    EXPECT_EQ(rows[k][6], k == 4 ? "singular" : "solved");
     const Eigen::Isometry3d T = robot.model().ForwardKinematics(q);
     const Eigen::Isometry3d T_target =
         robot.model().ForwardKinematics(Eigen::Map<const Eigen::VectorXd>(configurations[k - 1], 6));
