@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -117,6 +118,52 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
       const int in_truth = truth->model().FindParameter(info.name);
       if (in_truth >= 0) row.truth = truth->model().Parameters()[in_truth] * scale;
     }
+    rows.push_back(row);
+  }
+  // Markers and joint-level error coefficients are identified like the geometry (issue 11): a study that
+  // compares "geometry only" against "with joint errors" shows them, in mm and deg like the rest
+  // (approach terms in s: deg per deg/s).
+  const auto nominal_value = [](const auto& map, const std::string& key, auto get) {
+    const auto it = map.find(key);
+    return it == map.end() ? static_cast<double>(NAN) : get(it->second);
+  };
+  for (const auto& [marker, p_tool_marker] : identified.markers) {
+    for (int k = 0; k < 3; ++k) {
+      ParameterRow row;
+      row.name = "marker_" + marker + "_" + "xyz"[k];
+      row.unit = "mm";
+      row.nominal = nominal_value(nominal.markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      row.estimate = p_tool_marker[k] * 1e3;
+      row.stddev = stddev_of(row.name) * 1e3;
+      if (truth) row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      rows.push_back(row);
+    }
+  }
+  const auto coefficients_by_name = [](const Robot& robot) {
+    std::map<std::string, double> out;
+    const std::vector<std::string> names = robot.joint_errors.CoefficientNames();
+    const Eigen::VectorXd c = robot.joint_errors.Coefficients();
+    for (size_t k = 0; k < names.size(); ++k) out[names[k]] = c[static_cast<Eigen::Index>(k)];
+    return out;
+  };
+  const std::map<std::string, double> nominal_c = coefficients_by_name(nominal);
+  const std::map<std::string, double> truth_c = truth ? coefficients_by_name(*truth) : std::map<std::string, double>();
+  const std::vector<std::string> names = identified.joint_errors.CoefficientNames();  // in the file's order
+  const Eigen::VectorXd identified_c = identified.joint_errors.Coefficients();
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    const double value = identified_c[static_cast<Eigen::Index>(k)];
+    const bool approach = name.rfind("approach_", 0) == 0;
+    const bool per_length = name.rfind("gravity_", 0) == 0 && name.find('_', name.rfind("link")) == std::string::npos;
+    const double scale = approach ? 1.0 : per_length ? 180.0 / M_PI * 1e-3 : 180.0 / M_PI;
+    ParameterRow row;
+    row.name = name;
+    row.unit = approach ? "s" : per_length ? "deg/mm" : "deg";
+    const auto same = [](double v) { return v; };
+    row.nominal = nominal_value(nominal_c, name, same) * scale;
+    row.estimate = value * scale;
+    row.stddev = stddev_of(name) * scale;
+    if (truth) row.truth = nominal_value(truth_c, name, same) * scale;
     rows.push_back(row);
   }
   if (identified.drives) {
