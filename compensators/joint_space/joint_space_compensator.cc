@@ -209,6 +209,33 @@ bool PoseProduct(int n, const FactorFn& factor, const Eigen::Matrix<double, 6, E
   return inside;
 }
 
+// Solves N x = b for the symmetric 6 x 6 N whose lower triangle is given, by Cholesky with the loops'
+// bounds fixed: a quarter of a lookup went to Eigen's LLT, which runs its general (dynamic-size) kernels
+// even for a fixed 6 x 6. A pivot that is not positive (N singular without damping) gives NaN, which the
+// caller's step-length check turns into a cut step.
+Vector6d SolveSymmetric6(Eigen::Matrix<double, 6, 6> N, Vector6d b) {
+  double inv_diag[6];  // multiplications instead of divisions in the substitutions
+  for (int c = 0; c < 6; ++c) {
+    double d = N(c, c);
+    for (int k = 0; k < c; ++k) d -= N(c, k) * N(c, k);
+    inv_diag[c] = d > 0.0 ? 1.0 / std::sqrt(d) : NAN;
+    for (int r = c + 1; r < 6; ++r) {
+      double v = N(r, c);
+      for (int k = 0; k < c; ++k) v -= N(r, k) * N(c, k);
+      N(r, c) = v * inv_diag[c];
+    }
+  }
+  for (int r = 0; r < 6; ++r) {  // L y = b
+    for (int k = 0; k < r; ++k) b[r] -= N(r, k) * b[k];
+    b[r] *= inv_diag[r];
+  }
+  for (int r = 5; r >= 0; --r) {  // L^T x = y
+    for (int k = r + 1; k < 6; ++k) b[r] -= N(k, r) * b[k];
+    b[r] *= inv_diag[r];
+  }
+  return b;
+}
+
 }  // namespace
 
 bool JointSpaceCompensator::Pose(const Joints& q, Eigen::Isometry3d* T_meas_tool, Jacobian* J) const {
@@ -275,8 +302,7 @@ bool JointSpaceCompensator::Steps(const CompensationTarget& target, int steps, J
         for (int r = c; r < 6; ++r) normal(r, c) = A.col(r).dot(A.col(c));
         normal(c, c) += mu;
       }
-      Eigen::LLT<Eigen::Matrix<double, 6, 6>, Eigen::Lower> llt(normal);
-      dq = llt.solve(A.transpose() * e);
+      dq = SolveSymmetric6(normal, A.transpose() * e);
     } else {
       const Jacobian A = weights.asDiagonal() * J;
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints> normal(n, n);
