@@ -20,13 +20,12 @@ namespace kincal::robot_file {
 namespace {
 
 Unit CoefficientUnit(JointErrorTerm::Type type, const std::string& key, const Unit& length, const Unit& angle) {
-  switch (type) {
-    case JointErrorTerm::Type::kApproach: return {"s", 1.0};
-    case JointErrorTerm::Type::kGravity:
-      if (key.find('_') == std::string::npos) return {angle.name + "/" + length.name, angle.to_si / length.to_si};
-      return angle;
-    default: return angle;
+  switch (JointErrorTerm::KindOf(type, key)) {
+    case JointErrorTerm::CoefficientKind::kTime: return {"s", 1.0};
+    case JointErrorTerm::CoefficientKind::kAnglePerLength: return {angle.name + "/" + length.name, angle.to_si / length.to_si};
+    case JointErrorTerm::CoefficientKind::kAngle: break;
   }
+  return angle;
 }
 
 std::string List(const std::vector<std::string>& items) {

@@ -22,6 +22,13 @@ JointErrorTerm::Type JointErrorTerm::TypeFromName(const std::string& name) {
   throw std::invalid_argument("unknown joint error type '" + name + "' (expected gravity, harmonic, backlash or approach)");
 }
 
+JointErrorTerm::CoefficientKind JointErrorTerm::KindOf(Type type, const std::string& key) {
+  if (type == Type::kApproach) return CoefficientKind::kTime;
+  // Gravity keys: link<j> (a mass times a lever arm) or link<j>_x/_y/_z (a first mass moment's direction).
+  if (type == Type::kGravity && key.find('_') == std::string::npos) return CoefficientKind::kAnglePerLength;
+  return CoefficientKind::kAngle;
+}
+
 namespace {
 
 std::vector<std::string> KeysFor(const JointErrorTerm& term, const KinematicModel& model) {
@@ -130,6 +137,14 @@ void JointErrors::SetCoefficients(const Eigen::VectorXd& c) {
     t.coefficients = c.segment(k, static_cast<Eigen::Index>(t.keys.size()));
     k += static_cast<int>(t.keys.size());
   }
+}
+
+std::vector<JointErrorTerm::CoefficientKind> JointErrors::CoefficientKinds() const {
+  std::vector<JointErrorTerm::CoefficientKind> kinds;
+  for (const auto& t : terms) {
+    for (const auto& key : t.keys) kinds.push_back(JointErrorTerm::KindOf(t.type, key));
+  }
+  return kinds;
 }
 
 std::vector<int> JointErrors::CoefficientJoints() const {

@@ -48,6 +48,12 @@ struct JointErrorTerm {
   static std::string TypeName(Type type);  // "gravity", "harmonic", "backlash", "approach"
   // Throws std::invalid_argument naming the types for an unknown name.
   static Type TypeFromName(const std::string& name);
+
+  // What a coefficient's regressor is measured in, so what the coefficient multiplies into an angle:
+  // dimensionless (gravity link<j>_x/_y/_z, harmonic, backlash: coefficient in rad), a length (gravity
+  // link<j>: rad per m) or a speed in rad/s (approach: s).
+  enum class CoefficientKind { kAngle, kAnglePerLength, kTime };
+  static CoefficientKind KindOf(Type type, const std::string& key);
 };
 
 class JointErrors {
@@ -66,8 +72,10 @@ class JointErrors {
   std::vector<std::string> CoefficientNames() const;
   Eigen::VectorXd Coefficients() const;
   void SetCoefficients(const Eigen::VectorXd& c);
-  // Per coefficient: 0-based joint it moves, and whether it is a gravity link<j> term (rad/m).
+  // Per coefficient: the 0-based joint it moves.
   std::vector<int> CoefficientJoints() const;
+  // Per coefficient: its kind (JointErrorTerm::KindOf), in term order.
+  std::vector<JointErrorTerm::CoefficientKind> CoefficientKinds() const;
 
   bool uses_previous() const;         // backlash or approach terms
   bool uses_velocity_limits() const;  // approach terms

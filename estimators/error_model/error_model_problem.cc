@@ -192,23 +192,20 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   {
     const std::vector<std::string> names = start.joint_errors.CoefficientNames();
     const std::vector<int> joints = start.joint_errors.CoefficientJoints();
+    const std::vector<JointErrorTerm::CoefficientKind> kinds = start.joint_errors.CoefficientKinds();
     const Eigen::VectorXd c = start.joint_errors.Coefficients();
-    int k = 0;
-    for (const auto& term : start.joint_errors.terms) {
-      for (const auto& key : term.keys) {
-        ErrorModelParameter p;
-        p.name = names[k];
-        p.group = Group::kJointError;
-        p.kind = Kind::kCoefficient;
-        p.joint = joints[k];
-        p.coefficient = k;
-        p.unit = term.type == JointErrorTerm::Type::kApproach ? "s"
-                 : term.type == JointErrorTerm::Type::kGravity && key.find('_') == std::string::npos ? "rad/m"
-                                                                                                  : "rad";
-        p.start = c[k];
-        candidates_.push_back(p);
-        ++k;
-      }
+    for (int k = 0; k < static_cast<int>(names.size()); ++k) {
+      ErrorModelParameter p;
+      p.name = names[k];
+      p.group = Group::kJointError;
+      p.kind = Kind::kCoefficient;
+      p.joint = joints[k];
+      p.coefficient = k;
+      p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
+               : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
+                                                                               : "rad";
+      p.start = c[k];
+      candidates_.push_back(p);
     }
   }
   for (const auto& id : marker_ids_) {

@@ -149,16 +149,17 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
   const std::map<std::string, double> nominal_c = coefficients_by_name(nominal);
   const std::map<std::string, double> truth_c = truth ? coefficients_by_name(*truth) : std::map<std::string, double>();
   const std::vector<std::string> names = identified.joint_errors.CoefficientNames();  // in the file's order
+  const std::vector<JointErrorTerm::CoefficientKind> kinds = identified.joint_errors.CoefficientKinds();
   const Eigen::VectorXd identified_c = identified.joint_errors.Coefficients();
   for (size_t k = 0; k < names.size(); ++k) {
     const std::string& name = names[k];
     const double value = identified_c[static_cast<Eigen::Index>(k)];
-    const bool approach = name.rfind("approach_", 0) == 0;
-    const bool per_length = name.rfind("gravity_", 0) == 0 && name.find('_', name.rfind("link")) == std::string::npos;
-    const double scale = approach ? 1.0 : per_length ? 180.0 / M_PI * 1e-3 : 180.0 / M_PI;
+    const bool time = kinds[k] == JointErrorTerm::CoefficientKind::kTime;
+    const bool per_length = kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength;
+    const double scale = time ? 1.0 : per_length ? 180.0 / M_PI * 1e-3 : 180.0 / M_PI;
     ParameterRow row;
     row.name = name;
-    row.unit = approach ? "s" : per_length ? "deg/mm" : "deg";
+    row.unit = time ? "s" : per_length ? "deg/mm" : "deg";
     const auto same = [](double v) { return v; };
     row.nominal = nominal_value(nominal_c, name, same) * scale;
     row.estimate = value * scale;

@@ -197,9 +197,11 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
     if (e != "none" && any) estimators.push_back(e);
   }
   o << (truth ? "Identified minus true value, mean ± standard deviation over trials; in brackets the standard deviation "
-                "the estimator reported (mean over trials). Lengths in mm, angles in deg, ratios dimensionless.\n\n"
+                "the estimator reported (mean over trials). "
               : "Identified minus nominal value (measured data: no truth), mean ± standard deviation over trials; in "
-                "brackets the reported standard deviation.\n\n");
+                "brackets the reported standard deviation. ")
+    << "Lengths in mm, angles in deg, ratios dimensionless; joint-error coefficients in deg, deg/mm or s (deg per "
+       "deg/s).\n\n";
   std::vector<std::string> header = {"parameter", "unit"};
   if (truth) header.push_back("nominal − truth");
   for (const auto& e : estimators) header.push_back(Cell(e));

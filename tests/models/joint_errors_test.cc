@@ -180,6 +180,39 @@ TEST(JointErrors, GravityRegressorsGiveTheTorqueOfPointMasses) {
   }
 }
 
+// A coefficient's kind is the dimension of its regressor: an arm twice as large (every length doubled)
+// doubles the gravity link<j> regressors (a lever arm: coefficient in rad/m) and leaves the others as
+// they are (rad); approach regressors are speeds in rad/s (coefficient in s).
+TEST(JointErrors, CoefficientKindsAreTheRegressorsDimensions) {
+  using Kind = JointErrorTerm::CoefficientKind;
+  const auto model = Randomized(std::make_unique<MdhModel>(6), 31);
+  auto doubled = model->Clone();
+  Eigen::VectorXd p = model->Parameters();
+  for (int i = 0; i < p.size(); ++i) {
+    if (model->parameter_info()[i].kind == ParameterInfo::Kind::kLength) p[i] *= 2;
+  }
+  doubled->SetParameters(p);
+  const JointErrors e = AllTypes(*model);
+  const Eigen::VectorXd v = (Eigen::VectorXd(6) << 1, 1, 1, 2, 2, 2).finished();
+  const JointErrorContext context{model.get(), -Eigen::Vector3d::UnitZ(), &v};
+  const JointErrorContext context2{doubled.get(), -Eigen::Vector3d::UnitZ(), &v};
+  const Eigen::VectorXd q = (Eigen::VectorXd(6) << 0.4, 1.9, -0.3, 0.8, -1.1, 0.6).finished();
+  const Eigen::VectorXd from = (Eigen::VectorXd(6) << 0.1, 1.2, 0.3, 0.8, -0.2, 0.9).finished();
+  const Eigen::VectorXd phi = EvaluateRegressors(e, context, q, &from);
+  const Eigen::VectorXd phi2 = EvaluateRegressors(e, context2, q, &from);
+  const std::vector<Kind> kinds = e.CoefficientKinds();
+  const std::vector<std::string> names = e.CoefficientNames();
+  ASSERT_EQ(kinds.size(), static_cast<size_t>(phi.size()));
+  int counted[3] = {0, 0, 0};
+  for (int k = 0; k < phi.size(); ++k) {
+    const double factor = kinds[k] == Kind::kAnglePerLength ? 2.0 : 1.0;
+    EXPECT_NEAR(phi2[k], factor * phi[k], 1e-12 * (1 + std::abs(phi[k]))) << names[k];
+    ++counted[static_cast<int>(kinds[k])];
+    EXPECT_EQ(kinds[k] == Kind::kTime, names[k].rfind("approach_", 0) == 0) << names[k];
+  }
+  for (int c : counted) EXPECT_GT(c, 0);  // every kind is exercised
+}
+
 TEST(JointErrors, BacklashAndApproachNeedAMove) {
   MdhModel model(3);
   JointErrors e;
