@@ -67,28 +67,6 @@ namespace {
 
 double MaxJointDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
 
-// Moves revolute joints by whole turns towards `reference`, into the robot's limits where a turn does;
-// true when every joint ends inside its limits.
-bool WrapIntoLimits(const Robot& robot, const Eigen::VectorXd& reference, Eigen::VectorXd* q) {
-  bool inside = true;
-  for (int j = 0; j < q->size(); ++j) {
-    const auto [low, high] = robot.Limit(j);
-    double& v = (*q)[j];
-    const bool revolute = robot.model().joint_type(j) == JointType::kRevolute;
-    // The common case: inside, and no whole turn brings it nearer the reference within the limits.
-    if (v >= low && v <= high) {
-      const double turns = revolute ? std::round((reference[j] - v) / (2 * M_PI)) : 0.0;
-      if (turns == 0.0 || !(v + 2 * M_PI * turns >= low && v + 2 * M_PI * turns <= high)) continue;
-    }
-    if (revolute) {
-      const double k_low = std::ceil((low - v) / (2 * M_PI)), k_high = std::floor((high - v) / (2 * M_PI));
-      if (k_low <= k_high) v += 2 * M_PI * std::clamp(std::round((reference[j] - v) / (2 * M_PI)), k_low, k_high);
-    }
-    inside = inside && v >= low && v <= high;
-  }
-  return inside;
-}
-
 }  // namespace
 
 void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorXd& seed,
@@ -114,7 +92,7 @@ void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorX
     iterations += trial.report.iterations;
     ++restarts;
     if (trial.report.status != CompensationStatus::kConverged || !trial.q_actual.allFinite() ||
-        !WrapIntoLimits(identified_, seed, &trial.q_actual)) {
+        !WrapIntoLimits(identified_, &seed, trial.q_actual)) {
       return false;
     }
     if (MaxJointDistance(trial.q_actual, seed) <= options.same_branch_distance) {
@@ -212,7 +190,7 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   // A solution counts only inside the joint limits (revolute joints moved by whole turns towards the seed).
   const auto reached = [&] {
     return result.report.status == CompensationStatus::kConverged && result.q_actual.allFinite() &&
-           WrapIntoLimits(identified_, seed, &result.q_actual);
+           WrapIntoLimits(identified_, &seed, result.q_actual);
   };
   const BranchRestartOptions* restarts = branch_restarts();
   if (restarts && restarts->enabled && result.q_actual.allFinite() && !reached()) {

@@ -26,34 +26,6 @@ bool InverseKinematicsOptions::IsValid(std::string* why) const {
 
 namespace {
 
-// Brings revolute joints into their limits by multiples of 2 pi where possible; a joint within 1e-9
-// (rad or m) outside a limit (a solution on the limit, to rounding) is clamped onto it, *clamped set.
-// True if all end inside.
-bool WrapIntoLimits(const Robot& robot, Eigen::VectorXd* q, bool* clamped) {
-  constexpr double kSlack = 1e-9;
-  bool inside = true;
-  for (int j = 0; j < q->size(); ++j) {
-    const auto [low, high] = robot.Limit(j);
-    double& v = (*q)[j];
-    if (robot.model().joint_type(j) == JointType::kRevolute && (v < low || v > high)) {
-      const double wrapped = low + std::fmod(std::fmod(v - low, 2 * M_PI) + 2 * M_PI, 2 * M_PI);
-      if (wrapped <= high) {
-        v = wrapped;
-      } else if (wrapped - high <= kSlack) {
-        v = high;
-      } else if (low + 2 * M_PI - wrapped <= kSlack) {
-        v = low;
-      }
-    }
-    if ((v < low && v >= low - kSlack) || (v > high && v <= high + kSlack)) {
-      v = std::clamp(v, low, high);
-      *clamped = true;
-    }
-    inside = inside && v >= low && v <= high;
-  }
-  return inside;
-}
-
 struct Descent {
   bool converged = false;
   double cost = INFINITY;  // 0.5 |weighted error|^2
@@ -163,7 +135,8 @@ InverseKinematicsResult SolveInverseKinematics(const Robot& robot, const Eigen::
     Descent d = Descend(robot, T_meas_tool, use_orientation, options, &q, &result.iterations);
     if (!q.allFinite()) continue;
     bool clamped = false;
-    const bool inside = WrapIntoLimits(robot, &q, &clamped);
+    // Whole turns into the limits, nearest the descent's result; on a limit to rounding: onto it.
+    const bool inside = WrapIntoLimits(robot, nullptr, q, 1e-9, &clamped);
     if (clamped) {
       // On a limit: the errors of the joints as returned.
       const Evaluation e = Evaluate(robot.model(), T_meas_tool, use_orientation, options, q);

@@ -86,10 +86,12 @@ struct NominalInverseKinematics::Impl {
   bool SearchFamily(const Isometry3d& T, const VectorXd& reference, int free_mask, IkSolution* s) const;
   // Newton on the model; returns the errors.
   void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const;
-  // Moves revolute joints by whole turns into their limits, to the representative closest to the
-  // reference; a joint within kLimitSlack outside its limit (a solution on the limit, with the rounding
-  // of the closed form or the polish) is clamped onto it, *clamped set when that moved a joint.
-  bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q, bool* clamped = nullptr) const;
+  // Whole turns into the limits, nearest the reference (framework/robot.h); a joint within 1e-9 outside
+  // its limit (a solution on the limit, with the rounding of the closed form or the polish) is clamped
+  // onto it, *clamped set.
+  bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q, bool* clamped = nullptr) const {
+    return kincal::WrapIntoLimits(robot, &reference, q, 1e-9, clamped);
+  }
   bool Singular(const VectorXd& q) const;
   bool MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const;
   // The numeric solver from `start` (the reference when empty), with `restarts` (< 0: the options').
@@ -356,35 +358,6 @@ void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, do
   }
   *pe = e.head<3>().norm();
   *oe = e.tail<3>().norm();
-}
-
-bool NominalInverseKinematics::Impl::WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q,
-                                                    bool* clamped) const {
-  constexpr double kLimitSlack = 1e-9;  // rad
-  bool inside = true;
-  for (int j = 0; j < n; ++j) {
-    const auto [low, high] = robot.Limit(j);
-    double& v = q[j];
-    if (robot.model().joint_type(j) == JointType::kRevolute) {
-      // The representative v + 2 pi k inside [low, high] closest to the reference, else the one
-      // closest to the interval.
-      const double k_low = std::ceil((low - kLimitSlack - v) / (2 * M_PI));
-      const double k_high = std::floor((high + kLimitSlack - v) / (2 * M_PI));
-      if (k_low <= k_high) {
-        const double k_ref = std::clamp(std::round((reference[j] - v) / (2 * M_PI)), k_low, k_high);
-        v += 2 * M_PI * k_ref;
-        if (v < low || v > high) {
-          v = std::clamp(v, low, high);
-          if (clamped) *clamped = true;
-        }
-        continue;
-      }
-      const double below = v + 2 * M_PI * (k_low - 1), above = v + 2 * M_PI * k_low;
-      v = (low - below) < (above - high) ? below : above;
-    }
-    inside = inside && v >= low && v <= high;
-  }
-  return inside;
 }
 
 bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {

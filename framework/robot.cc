@@ -1,5 +1,6 @@
 #include "framework/robot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -19,6 +20,36 @@ Robot Robot::WithModel(std::unique_ptr<KinematicModel> model) const {
 std::pair<double, double> Robot::Limit(int joint) const {
   if (limits.empty()) return {-M_PI / 2, M_PI / 2};
   return limits.at(joint);
+}
+
+bool WrapIntoLimits(const Robot& robot, const Eigen::VectorXd* reference, Eigen::Ref<Eigen::VectorXd> q, double slack,
+                    bool* clamped) {
+  constexpr double kTurn = 2 * M_PI;
+  bool inside = true;
+  for (int j = 0; j < q.size(); ++j) {
+    const auto [low, high] = robot.Limit(j);
+    double& v = q[j];
+    const bool revolute = robot.model().joint_type(j) == JointType::kRevolute;
+    const double ref = reference ? (*reference)[j] : v;
+    // The common case, first (a compensator calls this per target): inside, and the reference within
+    // half a turn.
+    if (v >= low && v <= high && (!revolute || std::abs(ref - v) < 0.5 * kTurn)) continue;
+    if (revolute) {
+      const double k_low = std::ceil((low - slack - v) / kTurn), k_high = std::floor((high + slack - v) / kTurn);
+      if (k_low <= k_high) {
+        v += kTurn * std::clamp(std::round((ref - v) / kTurn), k_low, k_high);
+      } else {
+        const double below = v + kTurn * (k_low - 1), above = v + kTurn * k_low;
+        v = (low - below) < (above - high) ? below : above;
+      }
+    }
+    if ((v < low && v >= low - slack) || (v > high && v <= high + slack)) {
+      v = std::clamp(v, low, high);
+      if (clamped) *clamped = true;
+    }
+    inside = inside && v >= low && v <= high;
+  }
+  return inside;
 }
 
 Eigen::Vector3d Robot::MarkerPosition(const std::string& id) const {

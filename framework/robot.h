@@ -100,4 +100,12 @@ class Robot {
   ModelPtr model_;
 };
 
+// Moves each revolute joint of q by whole turns into the robot's limits, to the representative nearest
+// `reference`'s joint (null: nearest q's own value); a joint that no turn brings inside goes to the
+// representative nearest its limits. A joint (any type) within `slack` (rad or m) outside a limit, a
+// solution on the limit to rounding, is clamped onto it and *clamped set. True when every joint ends
+// inside. The inverse kinematics, the compensators and their restarts all place joints this one way.
+bool WrapIntoLimits(const Robot& robot, const Eigen::VectorXd* reference, Eigen::Ref<Eigen::VectorXd> q,
+                    double slack = 0.0, bool* clamped = nullptr);
+
 }  // namespace kincal
