@@ -91,7 +91,9 @@ TEST(PoseTables, TheUnfilteredSequenceGivesEachPoseTheOneItCameFrom) {
     const Eigen::VectorXd* a = d.PreviousQ(previous[r]);
     const Eigen::VectorXd* b = back.PreviousQ(back_previous[r]);
     ASSERT_EQ(a == nullptr, b == nullptr) << r;
-    if (a) EXPECT_TRUE(a->isApprox(*b, 1e-12)) << r;
+    if (a) {
+      EXPECT_TRUE(a->isApprox(*b, 1e-12)) << r;
+    }
   }
 
   // A pose missing from the sequence, or out of its order: file, line, column.
