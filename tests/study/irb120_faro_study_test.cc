@@ -1,6 +1,6 @@
 // The real-data example study, examples/studies/irb120_faro.yaml, on ../shared/data/irb120_faro (issue 11,
-// item 7): geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, with the
-// "before" baseline; reflector 1 alone and the three reflectors jointly. Skipped when the data is absent.
+// item 7): geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, + the
+// wrist's gravity, with the "before" baseline; reflector 1 alone and the three reflectors jointly. Skipped when the data is absent.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -38,23 +38,30 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
   EXPECT_LE(rms["smr1/approach_ceres"], 0.30);
   EXPECT_GT(rms["smr1/none"], rms["smr1/geometry"]);
   EXPECT_LT(rms["smr1/none"], 1.5);  // base and reflector placed: a usable baseline, not 2568 mm
-  for (const char* e : {"geometry", "compliance", "approach", "approach_ceres"}) EXPECT_EQ(status[std::string("smr1/") + e], "ok");
+  EXPECT_LT(rms["smr1/wrist"], rms["smr1/approach"]);
+  for (const char* e : {"geometry", "compliance", "approach", "approach_ceres", "wrist"}) {
+    EXPECT_EQ(status[std::string("smr1/") + e], "ok");
+  }
 
-  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv.
+  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv. The issue's goal is 0.32 mm
+  // on every reflector: its model (approach) leaves reflector 2 at 0.327 mm (see the README's table); with
+  // the wrist's gravity every reflector is within it.
   const ResultTable h = ReadResultTable(tmp.path("out") + "/heldout.csv");
-  std::map<std::string, std::pair<double, int>> per_marker;
+  std::map<std::string, std::map<std::string, std::pair<double, int>>> per_marker;  // estimator -> marker
   for (size_t r = 0; r < h.rows.size(); ++r) {
-    if (h.Text(r, h.Column("dataset")) != "smr123" || h.Text(r, h.Column("estimator")) != "approach") continue;
-    auto& acc = per_marker[h.Text(r, h.Column("marker"))];
+    if (h.Text(r, h.Column("dataset")) != "smr123") continue;
+    auto& acc = per_marker[h.Text(r, h.Column("estimator"))][h.Text(r, h.Column("marker"))];
     acc.first += std::pow(h.Number(r, h.Column("error_mm")), 2);
     ++acc.second;
-    EXPECT_TRUE(std::isfinite(h.Number(r, h.Column("approach_speed_deg_s"))) || r == 0);
+    EXPECT_TRUE(std::isfinite(h.Number(r, h.Column("approach_speed_deg_s"))));  // odd poses: all have a previous one
   }
-  ASSERT_EQ(per_marker.size(), 3u);
-  for (const auto& [marker, acc] : per_marker) {
-    const double marker_rms = std::sqrt(acc.first / acc.second);
-    std::printf("three reflectors jointly, approach model: %s held-out RMS %.4f mm\n", marker.c_str(), marker_rms);
-    EXPECT_LT(marker_rms, 0.35) << marker;  // issue goal 0.32 on every reflector: see the README's table
+  for (const auto& [estimator, limit] : std::map<std::string, double>{{"approach", 0.33}, {"wrist", 0.32}}) {
+    ASSERT_EQ(per_marker[estimator].size(), 3u) << estimator;
+    for (const auto& [marker, acc] : per_marker[estimator]) {
+      const double marker_rms = std::sqrt(acc.first / acc.second);
+      std::printf("three reflectors jointly, %s: %s held-out RMS %.4f mm\n", estimator.c_str(), marker.c_str(), marker_rms);
+      EXPECT_LE(marker_rms, limit) << estimator << " " << marker;
+    }
   }
   // The joint-level coefficients and the reflectors are identified parameters like the geometry: listed
   // with their units and standard deviations. Joint 1 ends about 16 mdeg ahead per rad/s of approach.
