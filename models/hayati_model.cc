@@ -1,5 +1,7 @@
 #include "models/hayati_model.h"
 
+#include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace kincal {
@@ -27,6 +29,14 @@ HayatiModel::HayatiModel(std::vector<JointType> joint_types) {
     ops.push_back({Op::kRz, first + 3, revolute ? i : -1, link});
   }
   BuildChain(std::move(joint_types), std::move(info), std::move(ops));
+}
+
+bool HayatiBetaIsRedundant(const KinematicModel& model, int joint) {
+  if (model.convention() != "hayati") throw std::invalid_argument("HayatiBetaIsRedundant: not a hayati model");
+  const std::string s = "_" + std::to_string(joint);
+  // z_i in frame i-1 is Rx(alpha_i) Ry(beta_i) e_z, whose z component is cos(alpha_i) cos(beta_i).
+  const double cos_angle = std::cos(model.Parameter("alpha" + s)) * std::cos(model.Parameter("beta" + s));
+  return std::abs(cos_angle) < std::cos(kHayatiParallelAxes);
 }
 
 }  // namespace kincal

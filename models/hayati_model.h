@@ -5,11 +5,19 @@
 // With beta_i = 0 this is exactly MdhModel. When axes i-1 and i are (nearly) parallel, a small tilt of
 // axis i about y is beta_i, a well-conditioned parameter, where MDH would need a huge d or offset; for
 // such rows d_i and the previous row's d are then redundant, and the identifiability analysis of the
-// estimators fixes one of them. For non-parallel rows beta_i is the redundant one (fix it, or let the
-// estimator find that out).
+// estimators fixes one of them. For non-parallel rows beta_i is the redundant one (with d_{i-1} and
+// theta_{i-1}, to first order), and the error-model estimators hold it (HayatiBetaIsRedundant): left
+// free, it is exactly redundant without joint-level errors and only weakly separated through the gravity
+// terms with them, which leaves a near-singular problem (standard deviations of hundreds of radians).
 #include "models/chain_model.h"
 
 namespace kincal {
+
+// Row `joint` (1-based) of a Hayati model: true when beta_joint is redundant, i.e. axis joint-1 (the base
+// frame's z for row 1) and axis joint are further than kHayatiParallelAxes from parallel or antiparallel
+// at the model's current values. Throws std::invalid_argument for another convention.
+inline constexpr double kHayatiParallelAxes = 10.0 * 3.14159265358979323846 / 180.0;  // rad
+bool HayatiBetaIsRedundant(const KinematicModel& model, int joint);
 
 class HayatiModel final : public ChainModel {
  public:

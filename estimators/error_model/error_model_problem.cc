@@ -9,6 +9,7 @@
 #include "estimators/error_model/pose_jacobians.h"
 #include "framework/prediction.h"
 #include "models/chain_model.h"
+#include "models/hayati_model.h"
 
 namespace kincal {
 namespace {
@@ -273,6 +274,15 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     if (p.group == Group::kMarker && !options.identify_markers) hold(p, "identify_markers is off");
     if (p.group == Group::kSession && !options.identify_session_bases) hold(p, "identify_session_bases is off");
     if (p.group == Group::kBase && !any_session0) hold(p, "no row in session 0: the model's base has no effect");
+    if (p.group == Group::kJoint && model.convention() == "hayati") {
+      const ParameterInfo& info = model.parameter_info()[p.model_index];
+      if (info.key == "beta" && HayatiBetaIsRedundant(model, info.joint)) {
+        const std::string i = std::to_string(info.joint), before = std::to_string(info.joint - 1);
+        hold(p, info.joint == 1 ? "Hayati's beta where axis 1 is not parallel to the base's z: redundant with the base"
+                                : "Hayati's beta where axes " + before + " and " + i + " are not parallel: redundant "
+                                  "with d_" + before + " and theta_" + before);
+      }
+    }
   }
   bool markers_free = true;
   for (const auto& p : candidates_) {

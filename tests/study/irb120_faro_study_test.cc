@@ -32,7 +32,7 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
   }
   for (const auto& [key, value] : rms) std::printf("held-out RMS %-28s %.4f mm (%s)\n", key.c_str(), value, status[key].c_str());
   // Reflector 1 (references: geometry 0.523-0.525 mm, + compliance about 0.46, + approach 0.259).
-  EXPECT_LT(rms["smr1/geometry"], 0.535);
+  EXPECT_LT(rms["smr1/geometry"], 0.53);
   EXPECT_LE(rms["smr1/compliance"], 0.47);
   EXPECT_LE(rms["smr1/approach"], 0.30);
   EXPECT_LE(rms["smr1/approach_ceres"], 0.30);
@@ -43,9 +43,8 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
     EXPECT_EQ(status[std::string("smr1/") + e], "ok");
   }
 
-  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv. The goal is 0.32 mm
-  // on every reflector: its model (approach) leaves reflector 2 at 0.327 mm (see the README's table); with
-  // the wrist's gravity every reflector is within it.
+  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv, within the 0.32 mm
+  // on every reflector with its model (approach), and lower with the wrist's gravity.
   const ResultTable h = ReadResultTable(tmp.path("out") + "/heldout.csv");
   std::map<std::string, std::map<std::string, std::pair<double, int>>> per_marker;  // estimator -> marker
   for (size_t r = 0; r < h.rows.size(); ++r) {
@@ -55,7 +54,7 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
     ++acc.second;
     EXPECT_TRUE(std::isfinite(h.Number(r, h.Column("approach_speed_deg_s"))));  // odd poses: all have a previous one
   }
-  for (const auto& [estimator, limit] : std::map<std::string, double>{{"approach", 0.33}, {"wrist", 0.32}}) {
+  for (const auto& [estimator, limit] : std::map<std::string, double>{{"approach", 0.32}, {"wrist", 0.30}}) {
     ASSERT_EQ(per_marker[estimator].size(), 3u) << estimator;
     for (const auto& [marker, acc] : per_marker[estimator]) {
       const double marker_rms = std::sqrt(acc.first / acc.second);
