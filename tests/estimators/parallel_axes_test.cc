@@ -49,7 +49,9 @@ TEST(ParallelAxes, BetaIsRedundantExactlyWhereTheAxesAreNotParallel) {
   const Robot robot = Irb120("hayati");
   // Rows: axis 1 along the base's z (parallel), 1-2 and 3-4, 4-5, 5-6 at right angles, 2-3 parallel.
   const bool expected[6] = {false, true, false, true, true, true};
-  for (int joint = 1; joint <= 6; ++joint) EXPECT_EQ(HayatiBetaIsRedundant(robot.model(), joint), expected[joint - 1]) << joint;
+  for (int joint = 1; joint <= 6; ++joint) {
+    EXPECT_EQ(HayatiBetaIsRedundant(robot.model(), joint), expected[joint - 1]) << joint;
+  }
   Robot leaning = robot;
   leaning.model().SetParameter("alpha_3", 0.2);  // 11.5 deg: no longer parallel
   EXPECT_TRUE(HayatiBetaIsRedundant(leaning.model(), 3));
@@ -62,7 +64,8 @@ TEST(ParallelAxes, HayatiRecoversATiltThatMdhCannotRepresent) {
   YAML::Node options;
   options["parameter_tolerance"] = 1e-12;
   Robot identified;
-  const EstimationReport report = Estimators().Create("least_squares", options)->Estimate(nominal_hayati, train, &identified);
+  const EstimationReport report =
+      Estimators().Create("least_squares", options)->Estimate(nominal_hayati, train, &identified);
   EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
   EXPECT_LT(EvaluatePredictions(nominal_hayati, identified, test).position_stats.max, 1e-10);
   EXPECT_NEAR(identified.model().Parameter("beta_3"), 0.5e-3, 1e-11);
@@ -73,7 +76,9 @@ TEST(ParallelAxes, HayatiRecoversATiltThatMdhCannotRepresent) {
     }
     if (p.name == "beta_3") {
       EXPECT_TRUE(p.free);
-      EXPECT_GT(p.stddev, 0.0);  // a regular problem: the held betas leave no near-singular direction
+    }
+    if (p.free) {  // a regular problem: with beta free on the non-parallel rows too, it was near-singular
+      EXPECT_TRUE(std::isfinite(p.stddev)) << p.name;
     }
   }
 
