@@ -8,19 +8,7 @@
 #include <yaml-cpp/exceptions.h>
 
 #include "apps/commands.h"
-
-namespace {
-
-// The promise is one line on stderr (docs/RELIABILITY.md): readers escape what they quote; this keeps
-// any other message on one line too.
-std::string OneLine(std::string text) {
-  for (char& c : text) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  return text;
-}
-
-}  // namespace
+#include "framework/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"kincal: kinematic calibration of serial robot arms"};
@@ -47,10 +35,12 @@ int main(int argc, char** argv) {
     std::cerr << "kincal: " << e.what() << " (see kincal --help)\n";
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "kincal: " << OneLine(e.what()) << "\n";
+    // The promise is one line on stderr (docs/RELIABILITY.md): readers escape what they quote; this
+    // keeps any other message on one line too.
+    std::cerr << "kincal: " << kincal::OneLine(e.what()) << "\n";
     return 2;
   } catch (const YAML::Exception& e) {
-    std::cerr << "kincal: " << OneLine(e.what()) << "\n";
+    std::cerr << "kincal: " << kincal::OneLine(e.what()) << "\n";
     return 2;
   } catch (const std::filesystem::filesystem_error& e) {
     // A folder that cannot be created or read (permissions, a file in the way, a full disk).

@@ -4,6 +4,7 @@
 #include "compensators/baseline/none_compensator.h"
 #include "compensators/jacobian/jacobian_compensator.h"
 #include "compensators/joint_space/joint_space_compensator.h"
+#include "framework/error.h"
 #include "framework/compensator.h"
 
 namespace kincal {
@@ -14,7 +15,7 @@ CompensatorRegistry::Factory FactoryOf() {
   return [](const YAML::Node& node) -> std::unique_ptr<Compensator> {
     const typename T::Options options = T::Options::FromYaml(node);
     std::string why;
-    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + why);
+    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + OneLine(why));
     return std::make_unique<T>(options);
   };
 }

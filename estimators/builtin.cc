@@ -7,6 +7,7 @@
 #include "estimators/ipopt/ipopt_estimator.h"
 #include "estimators/least_squares/least_squares_estimator.h"
 #include "estimators/nlopt/nlopt_estimator.h"
+#include "framework/error.h"
 #include "framework/estimator.h"
 
 namespace kincal {
@@ -17,7 +18,7 @@ EstimatorRegistry::Factory FactoryOf() {
   return [](const YAML::Node& node) -> std::unique_ptr<Estimator> {
     const typename T::Options options = T::Options::FromYaml(node);
     std::string why;
-    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + why);
+    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + OneLine(why));
     return std::make_unique<T>(options);
   };
 }

@@ -3,10 +3,7 @@
 #include <cstdio>
 
 namespace kincal {
-namespace {
 
-// Messages quote what the file holds ("unknown key '...'"); a quoted newline, carriage return or NUL
-// would break the one-line promise (and the terminal): control bytes are written as \xNN.
 std::string OneLine(const std::string& text) {
   std::string out;
   out.reserve(text.size());
@@ -22,8 +19,6 @@ std::string OneLine(const std::string& text) {
   }
   return out;
 }
-
-}  // namespace
 
 std::string Located(const std::string& file, int line, int column, const std::string& what) {
   std::string out = file.empty() ? std::string("<input>") : file;

@@ -6,7 +6,12 @@
 
 namespace kincal {
 
-// "file:line:column: what". line and column are 1-based; 0 leaves them out.
+// `text` with control bytes written as \xNN. Messages quote what the input holds ("unknown key '...'",
+// "got '...'"); a quoted newline, carriage return or NUL would break the one-line promise (and the
+// terminal).
+std::string OneLine(const std::string& text);
+
+// "file:line:column: what" (what through OneLine). line and column are 1-based; 0 leaves them out.
 std::string Located(const std::string& file, int line, int column, const std::string& what);
 
 [[noreturn]] void ThrowInputError(const std::string& file, int line, int column, const std::string& what);

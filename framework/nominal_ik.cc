@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "framework/error.h"
 #include "framework/ik_geometry.h"
 #include "framework/math.h"
 #include "framework/random.h"
@@ -412,7 +413,7 @@ IkSolution NominalInverseKinematics::Impl::Numeric(const Isometry3d& T, bool ori
 NominalInverseKinematics::NominalInverseKinematics(const Robot& robot, const NominalIkOptions& options)
     : impl_(std::make_unique<Impl>()) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("inverse kinematics: " + why);
+  if (!options.IsValid(&why)) throw std::invalid_argument("inverse kinematics: " + OneLine(why));
   if (!robot.has_model()) throw std::invalid_argument("inverse kinematics: the robot has no model");
   impl_->robot = robot;
   impl_->options = options;

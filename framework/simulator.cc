@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "framework/error.h"
 #include "framework/math.h"
 #include "framework/prediction.h"
 #include "framework/random.h"
@@ -28,7 +29,7 @@ bool SimulatorOptions::IsValid(std::string* why) const {
 
 Dataset Simulate(const Robot& nominal, const Robot& truth, const SimulatorOptions& options) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("simulate: " + why);
+  if (!options.IsValid(&why)) throw std::invalid_argument("simulate: " + OneLine(why));
   const int n = nominal.dof();
   if (truth.dof() != n) {
     throw std::invalid_argument("simulate: the nominal robot has " + std::to_string(n) + " joints, the truth " +

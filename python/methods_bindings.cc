@@ -9,6 +9,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "framework/error.h"
 #include "framework/compensator.h"
 #include "framework/estimator.h"
 #include "framework/prediction.h"
@@ -100,7 +101,7 @@ Dataset SimulateFrom(const Robot& nominal, const Robot& truth, const std::string
   o.length_unit = nominal.length_unit;
   o.angle_unit = nominal.angle_unit;
   std::string why;
-  if (!o.IsValid(&why)) throw std::invalid_argument("simulate: " + why);
+  if (!o.IsValid(&why)) throw std::invalid_argument("simulate: " + OneLine(why));
   return Simulate(nominal, truth, o);
 }
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/SVD>
 
+#include "framework/error.h"
 #include "framework/inverse_kinematics.h"
 #include "framework/random.h"
 
@@ -30,7 +31,7 @@ double JacobianConditionRatio(const KinematicModel& model, const Eigen::VectorXd
 
 RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, const RandomTargetOptions& options) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("random targets: " + why);
+  if (!options.IsValid(&why)) throw std::invalid_argument("random targets: " + OneLine(why));
   if (nominal.dof() != identified.dof()) throw std::invalid_argument("random targets: the robots differ in joint count");
   const int n = identified.dof();
   RandomTargets out;

@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 
 #include "compensators/common/random_targets.h"
+#include "framework/error.h"
 #include "framework/math.h"
 #include "framework/random.h"
 
@@ -54,7 +55,7 @@ JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YA
 void JointSpaceCompensator::DoPrepare() {
   const auto t0 = std::chrono::steady_clock::now();
   std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument("joint_space: " + why);
+  if (!options_.IsValid(&why)) throw std::invalid_argument("joint_space: " + OneLine(why));
   const Robot& id = identified();
   const KinematicModel& model = id.model();
   const int n = id.dof();

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "estimators/error_model/pose_jacobians.h"
+#include "framework/error.h"
 #include "framework/prediction.h"
 #include "models/chain_model.h"
 #include "models/hayati_model.h"
@@ -85,7 +86,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
                                      const ErrorModelOptions& options)
     : start_(start), controller_(controller), data_(&data), options_(options) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("error model options: " + why);
+  if (!options.IsValid(&why)) throw std::invalid_argument("error model options: " + OneLine(why));
   if (!start.has_model()) throw std::invalid_argument("error model: the robot has no model");
   const int n = start.dof();
   if (controller.dof() != n) throw std::invalid_argument("error model: the controller and the model differ in joint count");

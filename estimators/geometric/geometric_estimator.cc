@@ -9,6 +9,7 @@
 #include "estimators/geometric/mdh_conversion.h"
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
+#include "framework/error.h"
 #include "framework/prediction.h"
 
 namespace kincal {
@@ -115,7 +116,7 @@ void MarkersFromStops(const Robot& controller, const Dataset& data, const std::v
 void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                     EstimationReport* report) const {
   std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + why);
+  if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + OneLine(why));
   const int n = start.dof();
   for (int i = 0; i < n; ++i) {
     if (start.model().joint_type(i) != JointType::kRevolute) {

@@ -6,6 +6,7 @@
 #include "estimators/geometric/geometric_estimator.h"
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
+#include "framework/error.h"
 
 namespace kincal {
 
@@ -31,7 +32,7 @@ RatioRegressionEstimator::Options RatioRegressionEstimator::Options::FromYaml(co
 void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
                                           Robot* identified, EstimationReport* report) const {
   std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + why);
+  if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + OneLine(why));
   if (!start.drives) {
     throw std::invalid_argument("ratio_regression: the robot has no drives (ratio, counts_per_rev): there is no ratio to identify");
   }

@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "framework/error.h"
 #include "framework/study/report_data.h"
 #include "framework/study/report_plots.h"
 
@@ -93,7 +94,7 @@ tool: {xyz: [40, 30, 100], rpy: [0, 0, 0]}
 
 std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& registries) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("demo: " + why);
+  if (!options.IsValid(&why)) throw std::invalid_argument("demo: " + OneLine(why));
   const std::vector<std::string> estimators = Methods(*registries.estimators);
   const std::vector<std::string> compensators = Methods(*registries.compensators);
   const int poses = 6 * options.stops;
