@@ -16,11 +16,11 @@
 #include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
-#include "framework/compensation_targets.h"
-#include "framework/compensator.h"
+#include "compensators/compensation_targets.h"
+#include "compensators/compensator.h"
 #include "framework/dataset.h"
 #include "framework/error.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal::app {
 

@@ -1,15 +1,15 @@
 // kincal convert ROBOT.yaml --to CONVENTION --out OUT : the same robot in another convention, with
 // identical forward kinematics (e.g. to poe before calibrating an arm with parallel axes), or as a URDF
 // (--to urdf with an .urdf output): a robot imported from a URDF is written as that file with only the
-// joint numbers changed (models/urdf_io.h).
+// joint numbers changed (robot/urdf_io.h).
 #include <iostream>
 
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "models/conversion.h"
-#include "models/urdf_io.h"
+#include "robot/urdf_io.h"
 
 namespace kincal::app {
 namespace {

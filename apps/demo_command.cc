@@ -1,4 +1,4 @@
-// kincal demo [--out DIR]: the seed's experiment in simulation (framework/study/demo.h), then a summary
+// kincal demo [--out DIR]: the seed's experiment in simulation (studies/demo.h), then a summary
 // beside the seed's published numbers.
 #include <chrono>
 #include <cstdio>
@@ -7,9 +7,9 @@
 
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
-#include "framework/study/demo.h"
-#include "framework/study/progress.h"
-#include "framework/study/runner.h"
+#include "studies/demo.h"
+#include "studies/progress.h"
+#include "studies/runner.h"
 
 namespace kincal::app {
 

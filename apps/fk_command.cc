@@ -6,7 +6,7 @@
 #include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/error.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal::app {
 

@@ -10,9 +10,9 @@
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
-#include "framework/estimator.h"
-#include "framework/prediction.h"
-#include "framework/robot_file.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
+#include "robot/robot_file.h"
 
 namespace kincal::app {
 namespace {

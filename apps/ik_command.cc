@@ -1,5 +1,5 @@
 // kincal ik ROBOT.yaml --targets T.csv --out Q.csv [--all-branches]
-// Inverse kinematics of a robot (framework/nominal_ik.h): closed form where the geometry allows, numeric
+// Inverse kinematics of a robot (robot/nominal_ik.h): closed form where the geometry allows, numeric
 // otherwise. Targets: x_mm,y_mm,z_mm (or _m) with qw,qx,qy,qz (without them: position-only, numeric),
 // optionally q1_deg..qN_deg (or _rad) as each row's reference joints. The targets are a program: each is
 // solved on the branch closest to the previous row's solution (the first: to the middle of the limits),
@@ -18,8 +18,8 @@
 #include "framework/atomic_file.h"
 #include "framework/dataset.h"
 #include "framework/error.h"
-#include "framework/nominal_ik.h"
-#include "framework/robot_file.h"
+#include "robot/nominal_ik.h"
+#include "robot/robot_file.h"
 
 namespace kincal::app {
 

@@ -1,11 +1,11 @@
 // kincal import ROBOT.urdf --base LINK --tip LINK --out ROBOT.yaml [--convention urdf|mdh|poe|...]:
-// the serial chain of a URDF between two links as a kincal robot (models/urdf_io.h). The robot file
+// the serial chain of a URDF between two links as a kincal robot (robot/urdf_io.h). The robot file
 // remembers the URDF, so `kincal convert ROBOT.yaml --to urdf` writes that file back calibrated.
 #include <iostream>
 
 #include "apps/commands.h"
-#include "framework/robot_file.h"
-#include "models/urdf_io.h"
+#include "robot/robot_file.h"
+#include "robot/urdf_io.h"
 
 namespace kincal::app {
 

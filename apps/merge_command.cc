@@ -6,8 +6,8 @@
 
 #include "apps/commands.h"
 #include "framework/error.h"
-#include "framework/study/report.h"
-#include "framework/study/results_files.h"
+#include "studies/report.h"
+#include "studies/results_files.h"
 
 namespace kincal::app {
 

@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "apps/commands.h"
-#include "framework/compensator.h"
-#include "framework/estimator.h"
+#include "compensators/compensator.h"
+#include "estimators/estimator.h"
 #include "models/model_factory.h"
 
 namespace kincal::app {

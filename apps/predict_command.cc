@@ -1,16 +1,16 @@
 // kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml]
 // Where the robot model puts each measured marker: one row per dataset row, in order, so users can look at
 // their own residuals. The joint level (coupling, drives, joint errors with each row's previous pose)
-// applies as everywhere (framework/joint_readings.h).
+// applies as everywhere (robot/joint_readings.h).
 #include <cstdio>
 #include <sstream>
 
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/dataset.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 #include "framework/error.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal::app {
 

@@ -4,8 +4,8 @@
 #include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/error.h"
-#include "framework/robot_file.h"
-#include "framework/simulator.h"
+#include "robot/robot_file.h"
+#include "robot/simulator.h"
 
 namespace kincal::app {
 

@@ -1,5 +1,5 @@
 // kincal study STUDY.yaml --out DIR [--threads N] [--shard i/N]
-// Runs a study (framework/study/study.h describes the file) and writes results, plots and report.md.
+// Runs a study (studies/study.h describes the file) and writes results, plots and report.md.
 // Resumable (issue 13): finished work items are journaled in DIR; the same command again continues.
 // SIGTERM and SIGINT (Slurm preemption, a time limit, Ctrl-C) stop taking new items; the items in flight
 // finish and are journaled; the command exits with 128 + the signal's number. A second Ctrl-C ends it at once
@@ -10,9 +10,9 @@
 #include <iostream>
 
 #include "apps/commands.h"
-#include "framework/study/progress.h"
-#include "framework/study/runner.h"
-#include "framework/study/study.h"
+#include "studies/progress.h"
+#include "studies/runner.h"
+#include "studies/study.h"
 
 namespace kincal::app {
 namespace {

@@ -9,9 +9,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "framework/estimator.h"
-#include "framework/robot_file.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/robot_file.h"
+#include "robot/simulator.h"
 
 namespace kincal {
 namespace {

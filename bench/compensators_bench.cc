@@ -33,9 +33,9 @@
 #include "compensators/analytic_derivative/analytic_derivative_compensator.h"
 #include "compensators/common/random_targets.h"
 #include "compensators/joint_space/joint_space_compensator.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 #include "framework/math.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal {
 namespace {

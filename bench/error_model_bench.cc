@@ -12,9 +12,9 @@
 #include <benchmark/benchmark.h>
 
 #include "estimators/error_model/normal_equations.h"
-#include "framework/estimator.h"
-#include "framework/robot_file.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/robot_file.h"
+#include "robot/simulator.h"
 
 namespace kincal {
 namespace {

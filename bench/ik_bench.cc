@@ -1,4 +1,4 @@
-// Inverse kinematics of the four example arms (framework/nominal_ik.h) beside orocos KDL's
+// Inverse kinematics of the four example arms (robot/nominal_ik.h) beside orocos KDL's
 // ChainIkSolverPos_LMA, plain (one start, the middle of the limits) and with random restarts within the
 // limits until KDL reports success inside the limits (at most kMaxStarts starts). Seedless compensation on
 // the command line: seedless_compensation_bench.cc.
@@ -41,9 +41,9 @@
 #include <kdl/utilities/utility.h>
 
 #include "framework/math.h"
-#include "framework/nominal_ik.h"
+#include "robot/nominal_ik.h"
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "tests/support/kdl_reference.h"
 
 namespace kincal {

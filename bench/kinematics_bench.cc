@@ -12,7 +12,7 @@
 #include <kdl/chainjnttojacsolver.hpp>
 
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "tests/support/kdl_reference.h"
 
 namespace kincal {

@@ -27,9 +27,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "framework/nominal_ik.h"
+#include "robot/nominal_ik.h"
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal {
 namespace {

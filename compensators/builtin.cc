@@ -5,7 +5,7 @@
 #include "compensators/jacobian/jacobian_compensator.h"
 #include "compensators/joint_space/joint_space_compensator.h"
 #include "framework/error.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 namespace {

@@ -8,7 +8,7 @@
 #include "estimators/least_squares/least_squares_estimator.h"
 #include "estimators/nlopt/nlopt_estimator.h"
 #include "framework/error.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 namespace {
@@ -56,7 +56,7 @@ const EstimatorRegistry& Estimators() {
   return registry;
 }
 
-// Defined here rather than in framework/estimator.cc: it needs the registry, which lives in this library.
+// Defined here rather than in estimators/estimator.cc: it needs the registry, which lives in this library.
 std::vector<EstimationReport> RunPipeline(const std::vector<std::string>& methods,
                                           const std::vector<YAML::Node>& options, const Robot& nominal,
                                           const Dataset& data, Robot* identified) {

@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <string>
 
-#include "framework/estimator.h"
-#include "framework/prediction.h"
-#include "framework/robot_file.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
+#include "robot/robot_file.h"
+#include "robot/simulator.h"
 
 using namespace kincal;
 

@@ -4,11 +4,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 #include "framework/dataset.h"
-#include "framework/estimator.h"
-#include "framework/robot_file.h"
-#include "framework/study/study.h"
+#include "estimators/estimator.h"
+#include "robot/robot_file.h"
+#include "studies/study.h"
 #include "fuzz/harness_util.h"
 
 namespace kincal::fuzz {

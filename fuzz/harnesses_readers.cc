@@ -1,10 +1,10 @@
 // Harnesses of the file readers that need only the framework (fuzz/harnesses.h).
 #include "fuzz/harnesses.h"
 
-#include "framework/compensation_targets.h"
-#include "framework/compensator.h"
+#include "compensators/compensation_targets.h"
+#include "compensators/compensator.h"
 #include "framework/dataset.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "fuzz/harness_util.h"
 
 namespace kincal::fuzz {

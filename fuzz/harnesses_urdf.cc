@@ -1,4 +1,4 @@
-// Harness of the URDF reader and writer (models/urdf_io.h; fuzz/harnesses.h). `kincal import` reads a
+// Harness of the URDF reader and writer (robot/urdf_io.h; fuzz/harnesses.h). `kincal import` reads a
 // URDF file between two links and writes a robot file; `kincal convert --to urdf` writes the robot back
 // into that URDF (or a new one). Both paths run here on whatever the reader accepts.
 #include <unistd.h>
@@ -15,10 +15,10 @@
 #include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "fuzz/harness_util.h"
 #include "fuzz/harnesses.h"
-#include "models/urdf_io.h"
+#include "robot/urdf_io.h"
 
 namespace kincal::fuzz {
 namespace {

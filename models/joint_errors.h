@@ -7,7 +7,7 @@
 //     q_i = qbar_i + sum_k c_ik phi_ik(qbar, qbar_prev)                                            (1)
 //
 // qbar: the angles the drives put the joints at (the controller's readings after coupling and ratios,
-// framework/joint_readings.h); qbar_prev: the same for the previous pose of the measurement sequence (the
+// robot/joint_readings.h); qbar_prev: the same for the previous pose of the measurement sequence (the
 // move that led here); c_ik: coefficients, linear, identified like every other parameter. Regressors:
 //
 //   gravity   the gravity torque about joint i from the links beyond it. With unknown masses it is linear

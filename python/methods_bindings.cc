@@ -10,12 +10,12 @@
 #include <pybind11/stl.h>
 
 #include "framework/error.h"
-#include "framework/compensator.h"
-#include "framework/estimator.h"
-#include "framework/prediction.h"
-#include "framework/simulator.h"
-#include "framework/study/runner.h"
-#include "framework/study/study.h"
+#include "compensators/compensator.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
+#include "robot/simulator.h"
+#include "studies/runner.h"
+#include "studies/study.h"
 #include "models/model_factory.h"
 #include "python/bindings.h"
 #include "python/conversions.h"
@@ -226,7 +226,7 @@ void BindMethods(py::module_& m) {
         py::arg("order") = std::vector<int>(), py::arg("noise") = 0.0, py::arg("noise_range") = 0.0,
         py::arg("orientation") = false, py::arg("orientation_noise") = 0.0,
         py::arg("markers") = std::vector<std::string>(), py::arg("seed") = 1,
-        R"(A dataset the instrument would measure on `truth` commanded by `nominal` (framework/simulator.h).
+        R"(A dataset the instrument would measure on `truth` commanded by `nominal` (robot/simulator.h).
 SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per m of distance. Same seed, same data.)");
 
   m.def("identify", &Identify, py::arg("nominal"), py::arg("data"), py::arg("method"), py::arg("options") = py::none(),

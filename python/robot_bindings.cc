@@ -7,8 +7,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
-#include "framework/joint_readings.h"
-#include "framework/robot_file.h"
+#include "robot/joint_readings.h"
+#include "robot/robot_file.h"
 #include "python/bindings.h"
 #include "python/conversions.h"
 
@@ -76,7 +76,7 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
            },
            py::arg("readings"), py::arg("previous") = py::none(), py::arg("controller") = nullptr,
            "Actual joint angles for the controller's readings (coupling, drive ratios, joint errors of the move from "
-           "`previous`), framework/joint_readings.h.")
+           "`previous`), robot/joint_readings.h.")
       .def_property_readonly("dof", &Robot::dof)
       .def_readwrite("name", &Robot::name)
       .def_property_readonly("convention", [](const Robot& r) { return r.model().convention(); })

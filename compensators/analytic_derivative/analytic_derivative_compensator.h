@@ -23,7 +23,7 @@
 // - Position-only targets use the 3 position equations (the 4th column of Delta_T); the step is then
 //   the minimum-norm joint change.
 #include "compensators/common/gauss_newton.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 

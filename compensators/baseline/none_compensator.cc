@@ -2,7 +2,7 @@
 
 #include <Eigen/LU>
 
-#include "framework/joint_readings.h"
+#include "robot/joint_readings.h"
 
 namespace kincal {
 
@@ -15,7 +15,7 @@ NoneCompensator::Options NoneCompensator::Options::FromYaml(const YAML::Node& no
 void NoneCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                                    CompensationResult* result) const {
   // The controller commands its own solution: the real joints go where those readings put them
-  // (coupling, ratios and joint errors of the identified arm, framework/joint_readings.h).
+  // (coupling, ratios and joint errors of the identified arm, robot/joint_readings.h).
   Eigen::VectorXd readings = target.seed;
   if (readings.size() == 0) {
     readings = nominal().coupling.size() ? Eigen::VectorXd(nominal().coupling.partialPivLu().solve(seed)) : seed;

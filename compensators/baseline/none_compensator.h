@@ -1,7 +1,7 @@
 #pragma once
 // The `none` compensator: the controller's nominal solution, commanded unchanged. The baseline every
 // report compares against. Its q_actual is where the real arm goes when the seed is commanded.
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 

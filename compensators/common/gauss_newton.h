@@ -19,7 +19,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 #include "framework/registry.h"
 
 namespace kincal {
@@ -37,7 +37,7 @@ struct GaussNewtonOptions {
   // Halvings tried when a step does not reduce |r|; 0 disables the line search (every step is taken,
   // as in the seed).
   int max_step_halvings = 10;
-  // Targets not reached from the seed are retried from the nominal arm's branches (framework/compensator.h).
+  // Targets not reached from the seed are retried from the nominal arm's branches (compensators/compensator.h).
   BranchRestartOptions restarts;
 
   bool IsValid(std::string* why) const;

@@ -5,7 +5,7 @@
 #include <Eigen/SVD>
 
 #include "framework/error.h"
-#include "framework/inverse_kinematics.h"
+#include "robot/inverse_kinematics.h"
 #include "framework/random.h"
 
 namespace kincal {

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 

@@ -17,7 +17,7 @@
 // rotation part of the seed's A is [omega_i]x R, i.e. sqrt(2) |omega_i| in Frobenius norm), but 6
 // equations instead of 12 and an error whose rotation part is the exact angle rather than a chord.
 #include "compensators/common/gauss_newton.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 

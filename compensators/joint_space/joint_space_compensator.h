@@ -38,7 +38,7 @@
 #include <vector>
 
 #include "compensators/joint_space/pose_expansion.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 
 namespace kincal {
 

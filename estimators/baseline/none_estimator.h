@@ -1,7 +1,7 @@
 #pragma once
 // The `none` estimator: no calibration. It returns its input robot unchanged and is the baseline
 // ("before") every study compares against.
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

@@ -26,7 +26,7 @@
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/identifiability.h"
 #include "estimators/error_model/normal_equations.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

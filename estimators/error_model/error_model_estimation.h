@@ -21,7 +21,7 @@
 
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/row_weighting_options.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

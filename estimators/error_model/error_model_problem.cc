@@ -8,7 +8,7 @@
 
 #include "estimators/error_model/pose_jacobians.h"
 #include "framework/error.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 #include "models/chain_model.h"
 #include "models/hayati_model.h"
 

@@ -49,7 +49,7 @@
 #include "framework/dataset.h"
 #include "framework/math.h"
 #include "framework/registry.h"
-#include "framework/robot.h"
+#include "robot/robot.h"
 #include "models/joint_errors.h"
 
 namespace kincal {

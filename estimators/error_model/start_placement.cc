@@ -8,7 +8,7 @@
 #include <Eigen/SVD>
 
 #include "estimators/error_model/base_registration.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 
 namespace kincal {
 namespace {

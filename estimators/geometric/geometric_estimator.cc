@@ -10,7 +10,7 @@
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
 #include "framework/error.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 
 namespace kincal {
 

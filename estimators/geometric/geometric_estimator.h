@@ -17,7 +17,7 @@
 #include <string>
 
 #include "estimators/geometric/arc_fit.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

@@ -32,7 +32,7 @@
 #include "estimators/geometric/arc_fit.h"
 #include "estimators/geometric/common_normals.h"
 #include "estimators/geometric/sweeps.h"
-#include "framework/robot.h"
+#include "robot/robot.h"
 
 namespace kincal::geometric {
 

@@ -5,7 +5,7 @@
 // (Rz and Dz about the same axis commute) gives MDH rows (alpha_{i-1}, a_{i-1}, theta_i, d_i) with
 // alpha_0 = a_0 = 0, the same base, and the last Dx(a_n) Rx(alpha_n) folded into the tool. Joint angles
 // keep their meaning, so drives, limits and markers carry over unchanged.
-#include "framework/robot.h"
+#include "robot/robot.h"
 
 namespace kincal::geometric {
 

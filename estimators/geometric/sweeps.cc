@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "framework/error.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 
 namespace kincal::geometric {
 namespace {

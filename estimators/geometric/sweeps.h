@@ -19,7 +19,7 @@
 #include <Eigen/Core>
 
 #include "framework/dataset.h"
-#include "framework/robot.h"
+#include "robot/robot.h"
 
 namespace kincal::geometric {
 

@@ -19,7 +19,7 @@
 #include <string>
 
 #include "estimators/error_model/error_model_estimation.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

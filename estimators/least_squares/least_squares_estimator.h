@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "estimators/error_model/error_model_estimation.h"
-#include "framework/estimator.h"
+#include "estimators/estimator.h"
 
 namespace kincal {
 

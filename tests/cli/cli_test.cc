@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "framework/simulator.h"
+#include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {

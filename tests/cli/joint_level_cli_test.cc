@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "framework/csv.h"
-#include "framework/joint_readings.h"
+#include "robot/joint_readings.h"
 #include "framework/random.h"
-#include "framework/simulator.h"
+#include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {

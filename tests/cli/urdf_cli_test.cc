@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {

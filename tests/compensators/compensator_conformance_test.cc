@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "framework/inverse_kinematics.h"
+#include "robot/inverse_kinematics.h"
 #include "framework/math.h"
 #include "tests/compensators/compensator_fixture.h"
 

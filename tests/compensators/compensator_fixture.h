@@ -6,7 +6,7 @@
 #include <string>
 
 #include "compensators/common/random_targets.h"
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal::testing {

@@ -4,8 +4,8 @@
 // inverted for the move the arm actually makes.
 #include <gtest/gtest.h>
 
-#include "framework/compensator.h"
-#include "framework/joint_readings.h"
+#include "compensators/compensator.h"
+#include "robot/joint_readings.h"
 #include "framework/random.h"
 #include "tests/support/test_util.h"
 

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "framework/estimator.h"
-#include "framework/prediction.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
 #include "tests/estimators/irb120_faro.h"
 #include "tests/support/test_util.h"
 

@@ -10,9 +10,9 @@
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/pose_jacobians.h"
 #include "estimators/error_model/start_placement.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 #include "framework/random.h"
-#include "framework/simulator.h"
+#include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {

@@ -8,7 +8,7 @@
 
 #include "framework/dataset.h"
 #include "framework/pose_tables.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 
 namespace kincal::testing {
 

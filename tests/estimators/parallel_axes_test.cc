@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "framework/estimator.h"
-#include "framework/prediction.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
+#include "robot/simulator.h"
 #include "models/conversion.h"
 #include "models/hayati_model.h"
 #include "tests/support/test_util.h"

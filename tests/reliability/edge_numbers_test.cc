@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "framework/compensator.h"
+#include "compensators/compensator.h"
 #include "framework/dataset.h"
-#include "framework/estimator.h"
-#include "framework/robot_file.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/robot_file.h"
+#include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {

@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "framework/robot.h"
-#include "framework/robot_file.h"
+#include "robot/robot.h"
+#include "robot/robot_file.h"
 
 namespace kincal::testing {
 

@@ -10,7 +10,7 @@
 #include "estimators/geometric/mdh_from_frames.h"
 #include "framework/math.h"
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "tests/support/test_util.h"
 
 namespace kincal::geometric {

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "estimators/ratio_regression/ratio_regression_estimator.h"
-#include "framework/prediction.h"
+#include "robot/prediction.h"
 #include "framework/random.h"
-#include "framework/robot_file.h"
+#include "robot/robot_file.h"
 #include "tests/estimators/geometric/seed_fixture.h"
 #include "tests/support/test_util.h"
 

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "estimators/geometric/axis_fit.h"
-#include "framework/estimator.h"
-#include "framework/prediction.h"
+#include "estimators/estimator.h"
+#include "robot/prediction.h"
 #include "framework/math.h"
 #include "framework/random.h"
 #include "tests/support/test_util.h"

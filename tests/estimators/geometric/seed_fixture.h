@@ -4,9 +4,9 @@
 #include <vector>
 
 #include "framework/dataset.h"
-#include "framework/estimator.h"
-#include "framework/robot.h"
-#include "framework/simulator.h"
+#include "estimators/estimator.h"
+#include "robot/robot.h"
+#include "robot/simulator.h"
 
 namespace kincal::testing {
 

@@ -1,0 +1,99 @@
+#pragma once
+// The geometry under the closed-form inverse kinematics (robot/nominal_ik.cc): joint screws and
+// their exponentials, the Paden-Kahan subproblems 1 and 2, Pieper's 3R positioning problem, and where
+// lines meet. Angles in rad, lengths in m; no allocation per call.
+#include <utility>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace kincal::ik {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// A revolute joint's screw at q = 0: unit direction w and a point p on the axis (space frame).
+struct Screw {
+  Vector3d w, p;
+};
+
+inline Matrix3d Rot(const Vector3d& w, double angle) { return Eigen::AngleAxisd(angle, w).toRotationMatrix(); }
+
+inline Isometry3d Exp(const Screw& s, double angle) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Rot(s.w, angle);
+  T.translation() = s.p - T.linear() * s.p;
+  return T;
+}
+
+// M E_s(q) M^-1 = E_{M s}(q).
+inline Screw Moved(const Isometry3d& M, const Screw& s) { return {M.linear() * s.w, M * s.p}; }
+
+// Paden-Kahan subproblem 1: the angle about w that turns x into y (their components across w).
+// *degenerate when x has (almost) no such component: every angle does.
+double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate = nullptr);
+
+// Paden-Kahan subproblem 2 for unit vectors: angles (a, b) with Rot(w1, a) Rot(w2, b) u = v; w1, w2 not
+// parallel. The intermediate c = Rot(w2, b) u = Rot(w1, -a) v has known heights along w1 and w2.
+// Where c lies on w1 (v on w1: a wrist whose outer axes line up), every a does and only the sum of a and
+// the last turn of the chain matters; where u lies on w2, every b does. Such a free angle takes the
+// given value (the reference's) and sets bit 0 (a) or 1 (b) of *free. v within 1e-7 of w1 (u of w2)
+// but not within rounding: the free pair and the general ones, since the inputs may carry the error of
+// a double root (sqrt(eps)) upstream; the polish on the model keeps whichever reaches the pose.
+struct AnglePairs {
+  int size = 0;
+  std::pair<double, double> pair[3];
+  int free[3] = {0, 0, 0};  // per pair, its free angles
+  const std::pair<double, double>* begin() const { return pair; }
+  const std::pair<double, double>* end() const { return pair + size; }
+};
+AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u, const Vector3d& v, double free_a,
+                       double free_b, int* free);
+
+// A unit vector across w.
+Vector3d Across(const Vector3d& w);
+
+// A short list of fixed capacity (no allocation per solve); Push beyond the capacity is dropped (and
+// flagged); the capacities below are the most the closed forms can produce.
+template <typename T, int Capacity>
+struct FixedList {
+  static constexpr int kCapacity = Capacity;
+  int size = 0;
+  bool overflow = false;
+  T item[kCapacity];
+  void Push(const T& x) {
+    if (size < kCapacity) {
+      item[size++] = x;
+    } else {
+      overflow = true;
+    }
+  }
+  const T* begin() const { return item; }
+  const T* end() const { return item + size; }
+};
+
+// 3R positioning: angles (a, b, c) with E_A(a) E_B(b) E_C(c) p0 = p. Pieper's invariants of the rotation
+// about A, |f - pA|^2 and wA.(f - pA) for f = E_B(b) E_C(c) p0, give two equations
+//     alpha_i(c) cos b + beta_i(c) sin b + gamma_i(c) = 0,   i = 1, 2,
+// with alpha, beta, gamma of degree 1 in (cos c, sin c). Eliminating b (cos^2 b + sin^2 b = 1) leaves
+//     F(c) = (beta1 gamma2 - beta2 gamma1)^2 + (alpha2 gamma1 - alpha1 gamma2)^2 - (alpha1 beta2 - alpha2 beta1)^2,
+// a trigonometric polynomial of degree <= 4: its Fourier coefficients come exactly from 16 samples, its
+// roots from TrigRoots, each polished by Newton steps on F. Where A and B meet, the first equation loses
+// b and alone gives c; where they are parallel, the second does (F has only double roots in both cases,
+// which an eigenvalue solver finds to sqrt(eps) at best).
+// A continuum of solutions (the arm at a singular configuration that frees a joint) takes the joint's
+// value from free[] and sets its bit in *free_mask (1: a, 2: b, 4: c): c where F (or the equation in c
+// alone) vanishes identically, b where E_C(c) p0 lies on B (both equations lose b), a where
+// E_B(b) E_C(c) p0 lies on A.
+using Positions = FixedList<Vector3d, 16>;
+Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
+                  int* free_mask);
+
+// The point where three lines meet (least squares) and the largest distance of it to them.
+Vector3d CommonPoint(const Screw* s, int count, double* distance);
+
+// The distance between two lines (parallel ones: between any two of their points across).
+double LineDistance(const Screw& a, const Screw& b);
+
+}  // namespace kincal::ik

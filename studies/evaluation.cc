@@ -1,0 +1,564 @@
+#include "studies/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "framework/error.h"
+#include "framework/math.h"
+#include "framework/pose_tables.h"
+#include "robot/prediction.h"
+#include "framework/random.h"
+
+namespace kincal {
+namespace {
+
+double Quantile(const std::vector<double>& sorted, double f) {
+  const double pos = f * (sorted.size() - 1);
+  const size_t i = static_cast<size_t>(std::floor(pos));
+  if (i + 1 >= sorted.size()) return sorted.back();
+  return sorted[i] + (pos - i) * (sorted[i + 1] - sorted[i]);
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return Quantile(v, 0.5);
+}
+
+YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::Node() : YAML::Load(text); }
+
+// Where the true arm's joints go when the controller receives a compensation's commands (encoder counts
+// when it has drives), coming from the previous target's commands (robot/joint_readings.h).
+Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r,
+                            const Eigen::VectorXd* previous_command) {
+  return ActualFromReadings(nominal, truth, r.q_command, previous_command, truth.drives ? r.encoders : std::vector<int64_t>{});
+}
+
+// The baseline on measured data: the nominal geometry placed in the instrument's frame, only the base and
+// the tool or markers fitted to the training rows. The nominal robot as its file gives it sits in its own
+// base frame, metres away from the tracker's (2568 mm on the IRB 120 of ../shared/data): no reference.
+YAML::Node PlacementOptions(const Robot& nominal) {
+  YAML::Node options;
+  for (int j = 1; j <= nominal.dof(); ++j) options["fixed"].push_back("joint_" + std::to_string(j));
+  if (!nominal.joint_errors.terms.empty()) options["fixed"].push_back("joint_errors");
+  options["identify_ratios"] = false;
+  return options;
+}
+
+// An estimator that stopped with parameters on their bounds found the minimum of a smaller model than
+// the one asked for: its status says so rather than "converged".
+int ParametersAtBounds(const EstimationReport& r) {
+  const auto it = r.details.find("parameters_at_bounds");
+  return it != r.details.end() && it->is_number_integer() ? it->get<int>() : 0;
+}
+
+std::string WorstStatus(const std::vector<EstimationReport>& reports) {
+  std::string status = "converged";
+  for (const auto& r : reports) {
+    if (r.status == EstimationStatus::kFailed) return "failed";
+    if (r.status == EstimationStatus::kIterationLimit) status = "iteration_limit";
+    if (status == "converged" && ParametersAtBounds(r) > 0) status = "at_bounds";
+  }
+  return status;
+}
+
+std::vector<ConvergencePoint> Convergence(const std::vector<CompensationReport>& reports) {
+  size_t iterations = 0;
+  for (const auto& r : reports) iterations = std::max(iterations, r.position_history.size());
+  std::vector<ConvergencePoint> out;
+  for (size_t i = 0; i < iterations; ++i) {
+    ConvergencePoint c;
+    c.iteration = static_cast<int>(i);
+    std::vector<double> position, orientation;
+    for (const auto& r : reports) {
+      if (r.position_history.empty()) continue;
+      const size_t k = std::min(i, r.position_history.size() - 1);
+      position.push_back(r.position_history[k]);
+      if (k < r.orientation_history.size()) orientation.push_back(r.orientation_history[k]);
+      if (i + 1 < r.position_history.size()) ++c.active_targets;
+    }
+    c.position_median = Median(position);
+    c.position_max = *std::max_element(position.begin(), position.end());
+    if (!orientation.empty()) {
+      c.orientation_median = Median(orientation);
+      c.orientation_max = *std::max_element(orientation.begin(), orientation.end());
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, const Robot& identified,
+                                     const std::vector<EstimationReport>& reports) {
+  std::vector<ParameterRow> rows;
+  const auto stddev_of = [&](const std::string& name) {
+    for (auto r = reports.rbegin(); r != reports.rend(); ++r) {
+      for (const auto& p : r->parameters) {
+        if (p.name == name && p.free) return p.stddev;
+      }
+    }
+    return static_cast<double>(NAN);
+  };
+  const KinematicModel& m = identified.model();
+  for (int i = 0; i < m.num_parameters(); ++i) {
+    const ParameterInfo& info = m.parameter_info()[i];
+    const bool length = info.kind == ParameterInfo::Kind::kLength;
+    const double scale = length ? 1e3 : 180.0 / M_PI;
+    ParameterRow row;
+    row.name = info.name;
+    row.unit = length ? "mm" : "deg";
+    const int in_nominal = nominal.model().FindParameter(info.name);
+    if (in_nominal >= 0) row.nominal = nominal.model().Parameters()[in_nominal] * scale;
+    row.estimate = m.Parameters()[i] * scale;
+    row.stddev = stddev_of(info.name) * scale;
+    if (truth) {
+      const int in_truth = truth->model().FindParameter(info.name);
+      if (in_truth >= 0) row.truth = truth->model().Parameters()[in_truth] * scale;
+    }
+    rows.push_back(row);
+  }
+  // Markers and joint-level error coefficients are identified like the geometry (issue 11): a study that
+  // compares "geometry only" against "with joint errors" shows them, in mm and deg like the rest
+  // (approach terms in s: deg per deg/s).
+  const auto nominal_value = [](const auto& map, const std::string& key, auto get) {
+    const auto it = map.find(key);
+    return it == map.end() ? static_cast<double>(NAN) : get(it->second);
+  };
+  for (const auto& [marker, p_tool_marker] : identified.markers) {
+    for (int k = 0; k < 3; ++k) {
+      ParameterRow row;
+      row.name = "marker_" + marker + "_" + "xyz"[k];
+      row.unit = "mm";
+      row.nominal = nominal_value(nominal.markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      row.estimate = p_tool_marker[k] * 1e3;
+      row.stddev = stddev_of(row.name) * 1e3;
+      if (truth) row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      rows.push_back(row);
+    }
+  }
+  const auto coefficients_by_name = [](const Robot& robot) {
+    std::map<std::string, double> out;
+    const std::vector<std::string> names = robot.joint_errors.CoefficientNames();
+    const Eigen::VectorXd c = robot.joint_errors.Coefficients();
+    for (size_t k = 0; k < names.size(); ++k) out[names[k]] = c[static_cast<Eigen::Index>(k)];
+    return out;
+  };
+  const std::map<std::string, double> nominal_c = coefficients_by_name(nominal);
+  const std::map<std::string, double> truth_c = truth ? coefficients_by_name(*truth) : std::map<std::string, double>();
+  const std::vector<std::string> names = identified.joint_errors.CoefficientNames();  // in the file's order
+  const std::vector<JointErrorTerm::CoefficientKind> kinds = identified.joint_errors.CoefficientKinds();
+  const Eigen::VectorXd identified_c = identified.joint_errors.Coefficients();
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    const double value = identified_c[static_cast<Eigen::Index>(k)];
+    const bool time = kinds[k] == JointErrorTerm::CoefficientKind::kTime;
+    const bool per_length = kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength;
+    const double scale = time ? 1.0 : per_length ? 180.0 / M_PI * 1e-3 : 180.0 / M_PI;
+    ParameterRow row;
+    row.name = name;
+    row.unit = time ? "s" : per_length ? "deg/mm" : "deg";
+    const auto same = [](double v) { return v; };
+    row.nominal = nominal_value(nominal_c, name, same) * scale;
+    row.estimate = value * scale;
+    row.stddev = stddev_of(name) * scale;
+    if (truth) row.truth = nominal_value(truth_c, name, same) * scale;
+    rows.push_back(row);
+  }
+  if (identified.drives) {
+    for (int j = 0; j < identified.drives->dof(); ++j) {
+      ParameterRow row;
+      row.name = "ratio_" + std::to_string(j + 1);
+      if (nominal.drives) row.nominal = nominal.drives->ratio[j];
+      row.estimate = identified.drives->ratio[j];
+      row.stddev = stddev_of(row.name);
+      if (truth && truth->drives) row.truth = truth->drives->ratio[j];
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+// The names of the identified robot's parameters that are not finite ("" when all are).
+std::string NonFiniteParameters(const Robot& robot) {
+  std::string names;
+  const KinematicModel& m = robot.model();
+  const Eigen::VectorXd p = m.Parameters();
+  for (int i = 0; i < p.size(); ++i) {
+    if (!std::isfinite(p[i])) names += (names.empty() ? "" : ", ") + m.parameter_info()[i].name;
+  }
+  if (robot.drives) {
+    for (int j = 0; j < robot.drives->ratio.size(); ++j) {
+      if (!std::isfinite(robot.drives->ratio[j])) names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
+    }
+  }
+  return names;
+}
+
+// The message of the exception being handled, whatever its type.
+std::string CurrentExceptionText() {
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
+}
+
+std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& test, const PredictionErrors& e) {
+  std::vector<HeldoutPoint> out;
+  const Eigen::Isometry3d T_base_meas = identified.model().base().inverse();
+  const std::vector<Dataset::Previous> previous = test.PreviousPoses();
+  const Eigen::VectorXd& v = identified.velocity_limits;
+  for (size_t i = 0; i < test.rows.size() && i < e.position.size(); ++i) {
+    const Measurement& m = test.rows[i];
+    HeldoutPoint h;
+    h.row = static_cast<int>(i);
+    h.marker = m.marker;
+    h.reach = (T_base_meas * m.p).head<2>().norm();
+    h.error = e.position[i];
+    const Eigen::VectorXd* from = test.PreviousQ(previous[i]);
+    if (from && v.size() == m.q.size()) {
+      // The move's duration when all joints arrive together at the slowest joint's pace (issue 11).
+      const Eigen::ArrayXd dq = (m.q - *from).array().abs();
+      const double duration = (dq / v.array()).maxCoeff();
+      if (duration > 0.0) h.approach_speed = dq.maxCoeff() / duration;
+    }
+    out.push_back(h);
+  }
+  return out;
+}
+
+}  // namespace
+
+ErrorSummary SummarizeErrors(std::vector<double> errors) {
+  ErrorSummary s;
+  s.count = static_cast<int>(errors.size());
+  if (errors.empty()) return s;
+  std::sort(errors.begin(), errors.end());
+  double sum = 0.0, sum2 = 0.0;
+  for (double e : errors) {
+    sum += e;
+    sum2 += e * e;
+  }
+  s.mean = sum / s.count;
+  s.rms = std::sqrt(sum2 / s.count);
+  s.max = errors.back();
+  s.p05 = Quantile(errors, 0.05);
+  s.p25 = Quantile(errors, 0.25);
+  s.p50 = Quantile(errors, 0.50);
+  s.p75 = Quantile(errors, 0.75);
+  s.p95 = Quantile(errors, 0.95);
+  return s;
+}
+
+StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& registries)
+    : study_(study), registries_(registries) {
+  variants_ = Variants(study_);
+  items_ = WorkItems(study_, variants_);
+  for (size_t v = 0; v < study_.validation.size(); ++v) {
+    if (study_.validation[v].kind == ValidationSpec::Kind::kRandom) {
+      convergence_validation_ = static_cast<int>(v);
+      break;
+    }
+  }
+  for (const DatasetSpec& spec : study_.datasets) {
+    PreparedDataset d;
+    d.nominal = study_.nominal.robot;
+    if (!spec.simulated) {
+      if (spec.tables) {
+        PoseTables tables;
+        tables.joints = spec.file;
+        tables.positions = spec.position_tables;
+        tables.sequence = spec.sequence_table;
+        tables.length_unit = spec.table_length_unit;
+        tables.angle_unit = spec.table_angle_unit;
+        d.measured = ReadPoseTables(tables, d.nominal.dof());
+      } else {
+        d.measured = ReadDataset(spec.file);
+      }
+      d.measured.Validate(d.nominal.dof());
+      if (spec.split == DatasetSpec::Split::kColumn && d.measured.Subset(Split::kTest).rows.empty()) {
+        ThrowInputError(spec.file, 0, 0, "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
+      }
+      datasets_.push_back(std::move(d));
+      continue;
+    }
+    d.truth = study_.truth->robot;
+    if (spec.marker) {
+      for (Robot* r : {&d.nominal, &d.truth}) {
+        Eigen::Isometry3d tool = r->model().tool();
+        tool.translation() = *spec.marker;
+        r->model().SetTool(tool);
+      }
+    }
+    for (const ValidationSpec& v : study_.validation) {
+      const bool orientation = v.orientation && d.nominal.dof() >= 6;
+      d.orientation.push_back(orientation);
+      if (v.kind == ValidationSpec::Kind::kRandom) {
+        d.targets.push_back(
+            ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation, ValidationSeed(study_, v)));
+      } else {
+        try {
+          d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
+        } catch (const std::invalid_argument& e) {
+          ThrowInputError(study_.source, 0, 0, "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
+        }
+      }
+    }
+    datasets_.push_back(std::move(d));
+  }
+}
+
+Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const {
+  const DatasetVariant& variant = variants_[item.variant];
+  const DatasetSpec& spec = study_.datasets[variant.dataset];
+  const PreparedDataset& d = datasets_[variant.dataset];
+  const uint64_t seed = DatasetSeed(study_, variant, item.trial);
+  if (spec.simulated) {
+    SimulatorOptions o = variant.simulator;
+    o.seed = seed;
+    return Simulate(d.nominal, d.truth, o);
+  }
+  const Dataset& all = d.measured;
+  if (spec.split == DatasetSpec::Split::kColumn) {
+    *test = all.Subset(Split::kTest);
+    return all.Subset(Split::kTrain);
+  }
+  // Splits go by pose: the rows of one pose (one per marker, consecutive, same joints) stay together.
+  std::vector<size_t> pose_of(all.rows.size());
+  size_t poses = 0;
+  for (size_t i = 0; i < all.rows.size(); ++i) {
+    if (i > 0 && all.rows[i].q != all.rows[i - 1].q) ++poses;
+    pose_of[i] = poses;
+  }
+  if (!all.rows.empty()) ++poses;
+  std::vector<bool> is_test(poses, false);
+  if (spec.split == DatasetSpec::Split::kEvery) {
+    for (size_t i = 0; i < poses; ++i) is_test[i] = (i + 1) % spec.every == 0;
+  } else {
+    std::vector<size_t> order(poses);
+    for (size_t i = 0; i < poses; ++i) order[i] = i;
+    Rng rng(seed);
+    for (size_t i = poses; i > 1; --i) std::swap(order[i - 1], order[rng.NextU64() % i]);
+    const size_t count = static_cast<size_t>(std::llround(spec.test_fraction * poses));
+    for (size_t i = 0; i < count; ++i) is_test[order[i]] = true;
+  }
+  // SelectRows keeps each row's previous pose from the whole sequence (joint errors of the move need it).
+  std::vector<int> train_rows, test_rows;
+  for (size_t i = 0; i < all.rows.size(); ++i) (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
+  *test = all.SelectRows(test_rows);
+  return all.SelectRows(train_rows);
+}
+
+// Issue 10: a method that throws (anything) or returns non-finite numbers fails its work item (or, for a
+// compensator, its rows) with the reason as the note; the study goes on.
+ItemResult StudyEvaluator::Run(const WorkItem& item) const {
+  try {
+    return RunOrFail(item, "");
+  } catch (const std::exception& e) {
+    return RunOrFail(item, std::string("work item failed: ") + e.what());
+  } catch (...) {
+    return RunOrFail(item, "work item failed: an exception that is not a std::exception");
+  }
+}
+
+ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& failure) const {
+  ItemResult result;
+  result.item = item;
+  const DatasetVariant& variant = variants_[item.variant];
+  const DatasetSpec& spec = study_.datasets[variant.dataset];
+  const PreparedDataset& d = datasets_[variant.dataset];
+  const PipelineSpec& pipeline = study_.pipelines[item.pipeline];
+
+  Dataset test;
+  std::vector<EstimationReport> reports;
+  Robot identified = d.nominal;
+  std::string method;  // the estimator running, for the note of a failure
+  try {
+    if (!failure.empty()) throw std::runtime_error(failure);
+    const Dataset train = TrainingData(item, &test);
+    double seconds = 0.0;
+    for (size_t i = 0; i < pipeline.methods.size(); ++i) {
+      method = pipeline.methods[i];
+      const bool placement = !spec.simulated && pipeline.methods[i] == "none";
+      const auto estimator = placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
+                                       : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
+      Robot next;
+      reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
+      seconds += reports.back().wall_time_seconds;
+      identified = std::move(next);
+      const std::string non_finite = NonFiniteParameters(identified);
+      if (!non_finite.empty()) throw std::runtime_error("returned non-finite parameters (" + non_finite + ")");
+    }
+    method.clear();
+    result.identify_seconds = seconds;
+    result.estimation_status = WorstStatus(reports);
+    for (const auto& r : reports) {
+      std::string why = r.status != EstimationStatus::kConverged ? r.message : "";
+      if (ParametersAtBounds(r) > 0) {
+        why += (why.empty() ? "" : ", ") + std::to_string(ParametersAtBounds(r)) + " parameter(s) on their bounds";
+      }
+      if (!why.empty()) result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
+    }
+  } catch (...) {
+    result.estimation_status = "error";
+    result.estimation_note = (method.empty() ? "" : "estimator " + method + ": ") + CurrentExceptionText();
+  }
+  if (result.estimation_status != "error") {
+    result.parameters = Parameters(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
+  }
+  std::string status = "ok";
+  if (result.estimation_status == "error") {
+    status = "failed";
+  } else if (result.estimation_status != "converged") {
+    status = "estimate_" + result.estimation_status;
+  }
+
+  if (!spec.simulated) {
+    EvaluationRow row;
+    row.compensator = "-";
+    row.validation = "heldout";
+    row.status = status;
+    row.note = result.estimation_note;
+    if (result.estimation_status != "error") {
+      const PredictionErrors e = EvaluatePredictions(d.nominal, identified, test);
+      row.targets = row.converged = static_cast<int>(test.rows.size());
+      row.position = SummarizeErrors(e.position);
+      row.orientation = SummarizeErrors(e.orientation);
+      result.heldout = HeldoutPoints(identified, test, e);
+    }
+    result.rows.push_back(row);
+    return result;
+  }
+  Evaluate(item, d, identified, status, result.estimation_note, &result);
+  return result;
+}
+
+void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, const Robot& identified,
+                              const std::string& status, const std::string& note, ItemResult* result) const {
+  const DatasetVariant& variant = variants_[item.variant];
+  const uint64_t dataset_seed = DatasetSeed(study_, variant, item.trial);
+  const bool estimated = result->estimation_status != "error";
+  // Compensator "-": how well the identified robot predicts where the true arm goes at the targets'
+  // commanded joints (it scores an estimator alone, like the held-out rows of measured data).
+  for (size_t v = 0; v < study_.validation.size(); ++v) {
+    if (study_.validation[v].kind != ValidationSpec::Kind::kRandom) continue;
+    EvaluationRow row;
+    row.compensator = "-";
+    row.validation = study_.validation[v].name;
+    row.status = status;
+    row.note = note;
+    if (estimated) {
+      std::vector<double> position, orientation;
+      // The targets are a program: each is reached from the one before.
+      Dataset program;
+      program.dof = d.nominal.dof();
+      for (const ValidationTarget& target : d.targets[v]) {
+        Measurement m;
+        m.q = target.q_nominal;
+        if (d.nominal.drives) m.encoders = d.nominal.drives->CommandCounts(m.q);
+        program.rows.push_back(std::move(m));
+      }
+      const std::vector<Dataset::Previous> previous = program.PreviousPoses();
+      for (size_t t = 0; t < program.rows.size(); ++t) {
+        const Eigen::Isometry3d T_truth =
+            d.truth.model().ForwardKinematics(ActualJointAngles(d.nominal, d.truth, program, t, previous));
+        const Eigen::Isometry3d T_model =
+            identified.model().ForwardKinematics(ActualJointAngles(d.nominal, identified, program, t, previous));
+        position.push_back((T_truth.translation() - T_model.translation()).norm());
+        if (d.orientation[v]) orientation.push_back(RotationAngleBetween(T_truth.linear(), T_model.linear()));
+      }
+      row.targets = row.converged = static_cast<int>(d.targets[v].size());
+      row.position = SummarizeErrors(position);
+      row.orientation = SummarizeErrors(orientation);
+    }
+    result->rows.push_back(row);
+  }
+  for (const CompensatorSpec& c : study_.compensators) {
+    std::vector<EvaluationRow> rows(study_.validation.size());
+    for (size_t v = 0; v < rows.size(); ++v) {
+      rows[v].compensator = c.name;
+      rows[v].validation = study_.validation[v].name;
+      rows[v].status = status;
+      rows[v].note = note;
+    }
+    if (!estimated) {
+      for (auto& row : rows) result->rows.push_back(row);
+      continue;
+    }
+    try {
+      const auto compensator = registries_.compensators->Create(c.method, LoadOptions(c.options_yaml));
+      compensator->Prepare(d.nominal, identified);
+      for (size_t v = 0; v < rows.size(); ++v) {
+        const ValidationSpec& spec = study_.validation[v];
+        EvaluationRow& row = rows[v];
+        std::vector<double> position, orientation;
+        std::vector<CompensationReport> reports;
+        double seconds = 0.0;
+        const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
+        Eigen::VectorXd previous_command;  // the program's previous target, in order
+        for (size_t t = 0; t < d.targets[v].size(); ++t) {
+          const ValidationTarget& target = d.targets[v][t];
+          CompensationTarget goal;
+          goal.T_meas_tool = target.T_meas_tool;
+          goal.has_orientation = d.orientation[v];
+          goal.seed = target.q_nominal;
+          goal.previous_command = previous_command;
+          CompensationResult r = compensator->Compensate(goal);
+          if (r.report.non_finite) {
+            throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
+                                     spec.name);
+          }
+          seconds += r.report.wall_time_seconds;
+          if (r.report.status == CompensationStatus::kConverged) ++row.converged;
+          const Eigen::VectorXd q_truth =
+              TruthAngles(d.nominal, d.truth, r, previous_command.size() ? &previous_command : nullptr);
+          previous_command = r.q_command;
+          const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
+          position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
+          if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
+          if (iso) {
+            // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
+            Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
+            std::vector<Eigen::Isometry3d> attained;
+            for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
+              Eigen::VectorXd q = q_truth;
+              for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
+              Eigen::Isometry3d Tc = d.truth.model().ForwardKinematics(q);
+              for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
+              attained.push_back(Tc);
+            }
+            row.iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
+          }
+          if (static_cast<int>(v) == convergence_validation_) reports.push_back(std::move(r.report));
+        }
+        row.targets = static_cast<int>(d.targets[v].size());
+        row.position = SummarizeErrors(position);
+        row.orientation = SummarizeErrors(orientation);
+        row.compensate_seconds_per_target = row.targets ? seconds / row.targets : NAN;
+        if (!reports.empty()) row.convergence = Convergence(reports);
+        if (row.status == "ok" && row.converged < row.targets) {
+          row.status = "compensation_partial";
+          row.note = std::to_string(row.converged) + " of " + std::to_string(row.targets) + " targets converged";
+        }
+      }
+    } catch (...) {
+      const std::string reason = "compensator " + c.method + ": " + CurrentExceptionText();
+      for (auto& row : rows) {
+        EvaluationRow failed;
+        failed.compensator = c.name;
+        failed.validation = row.validation;
+        row = failed;
+        row.status = "failed";
+        row.note = reason;
+      }
+    }
+    for (auto& row : rows) result->rows.push_back(std::move(row));
+  }
+}
+
+}  // namespace kincal
