@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -39,6 +40,35 @@ CircleFit2d Denormalize(const Normalized& n, const Eigen::Vector2d& center, doub
   fit.center = n.centroid + n.scale * center;
   fit.radius = n.scale * radius;
   return fit;
+}
+
+// Singular values and right singular vectors of a tall m x N matrix Z, N = 3 or 4, as Eigen's JacobiSVD
+// computes them (its column-pivoting QR preconditioner, then two-sided Jacobi on the N x N triangle): Z P =
+// Q R, so Z = Q U S (P V_R)^T. Written out because JacobiSVD of a dynamic-row matrix instantiates both
+// preconditioners and their Householder sequences for m > N and m < N: most of this file's compile time.
+template <int N>
+struct SmallSvd {
+  Eigen::Matrix<double, N, 1> singular_values;
+  Eigen::Matrix<double, N, N> V;
+};
+
+template <int N>
+SmallSvd<N> RightSingularVectors(const Eigen::Matrix<double, Eigen::Dynamic, N>& Z) {
+  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, N>> qr(Z);
+  const Eigen::Matrix<double, N, N> R =
+      qr.matrixQR().template topRows<N>().template triangularView<Eigen::Upper>();
+  const Eigen::JacobiSVD<Eigen::Matrix<double, N, N>> svd(R, Eigen::ComputeFullV);
+  SmallSvd<N> out;
+  if (svd.info() != Eigen::Success) {
+    // A non-finite entry: JacobiSVD leaves its results unset; NaN makes the caller's finiteness check
+    // report no finite circle.
+    out.singular_values.setConstant(std::numeric_limits<double>::quiet_NaN());
+    out.V.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return out;
+  }
+  out.singular_values = svd.singularValues();
+  out.V = qr.colsPermutation() * svd.matrixV();
+  return out;
 }
 
 // Circle A (x^2 + y^2) + B x + C y + D = 0 -> centre and radius.
@@ -95,8 +125,7 @@ CircleFit2d FitCircleTaubin(const std::vector<Eigen::Vector2d>& points) {
   const double root = 2.0 * std::sqrt(z_mean);
   Eigen::MatrixX3d Z(m, 3);
   for (int k = 0; k < m; ++k) Z.row(k) << (n.p[k].squaredNorm() - z_mean) / root, n.p[k].x(), n.p[k].y();
-  const Eigen::JacobiSVD<Eigen::MatrixX3d> svd(Z, Eigen::ComputeFullV);
-  const Eigen::Vector3d v = svd.matrixV().col(2);
+  const Eigen::Vector3d v = RightSingularVectors<3>(Z).V.col(2);
   const double A = v[0] / root;
   return FromAlgebraic(n, Eigen::Vector4d(A, v[1], v[2], -z_mean * A));
 }
@@ -109,9 +138,9 @@ CircleFit2d FitCirclePratt(const std::vector<Eigen::Vector2d>& points) {
   const int m = static_cast<int>(n.p.size());
   Eigen::MatrixX4d Z(m, 4);
   for (int k = 0; k < m; ++k) Z.row(k) << n.p[k].squaredNorm(), n.p[k].x(), n.p[k].y(), 1.0;
-  const Eigen::JacobiSVD<Eigen::MatrixX4d> svd(Z, Eigen::ComputeFullV);
-  const Eigen::Vector4d s = svd.singularValues();
-  const Eigen::Matrix4d V = svd.matrixV();
+  const SmallSvd<4> svd = RightSingularVectors<4>(Z);
+  const Eigen::Vector4d s = svd.singular_values;
+  const Eigen::Matrix4d V = svd.V;
   Eigen::Vector4d A;
   if (s[3] < 1e-12 * s[0]) {
     A = V.col(3);  // the points are exactly on a circle (or line): the null vector
