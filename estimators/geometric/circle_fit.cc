@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Dense>
+
+#include "estimators/geometric/small_svd.h"
 
 namespace kincal::geometric {
 namespace {
@@ -40,35 +41,6 @@ CircleFit2d Denormalize(const Normalized& n, const Eigen::Vector2d& center, doub
   fit.center = n.centroid + n.scale * center;
   fit.radius = n.scale * radius;
   return fit;
-}
-
-// Singular values and right singular vectors of a tall m x N matrix Z, N = 3 or 4, as Eigen's JacobiSVD
-// computes them (its column-pivoting QR preconditioner, then two-sided Jacobi on the N x N triangle): Z P =
-// Q R, so Z = Q U S (P V_R)^T. Written out because JacobiSVD of a dynamic-row matrix instantiates both
-// preconditioners and their Householder sequences for m > N and m < N: most of this file's compile time.
-template <int N>
-struct SmallSvd {
-  Eigen::Matrix<double, N, 1> singular_values;
-  Eigen::Matrix<double, N, N> V;
-};
-
-template <int N>
-SmallSvd<N> RightSingularVectors(const Eigen::Matrix<double, Eigen::Dynamic, N>& Z) {
-  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, N>> qr(Z);
-  const Eigen::Matrix<double, N, N> R =
-      qr.matrixQR().template topRows<N>().template triangularView<Eigen::Upper>();
-  const Eigen::JacobiSVD<Eigen::Matrix<double, N, N>> svd(R, Eigen::ComputeFullV);
-  SmallSvd<N> out;
-  if (svd.info() != Eigen::Success) {
-    // A non-finite entry: JacobiSVD leaves its results unset; NaN makes the caller's finiteness check
-    // report no finite circle.
-    out.singular_values.setConstant(std::numeric_limits<double>::quiet_NaN());
-    out.V.setConstant(std::numeric_limits<double>::quiet_NaN());
-    return out;
-  }
-  out.singular_values = svd.singularValues();
-  out.V = qr.colsPermutation() * svd.matrixV();
-  return out;
 }
 
 // Circle A (x^2 + y^2) + B x + C y + D = 0 -> centre and radius.
