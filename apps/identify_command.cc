@@ -1,5 +1,7 @@
 // kincal identify --nominal N.yaml --data DATA.csv --method A[,B...] [--options O.yaml] --out I.yaml
-//                 [--report R.json] [--validate HELDOUT.csv]
+//                 [--report R.json] [--validate HELDOUT.csv] [--select]
+// --select: the last method (an error-model estimator) selects among the robot file's nested joint-error
+// models by cross-validation (`select: true`, estimators/selection/model_selection.h).
 // Methods run in order, each refining the robot of the one before (a pipeline). With a `split` column,
 // the train rows identify and the test rows validate.
 #include <iostream>
@@ -11,6 +13,7 @@
 #include "framework/atomic_file.h"
 #include "framework/error.h"
 #include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
 #include "robot/robot_file.h"
 
@@ -44,6 +47,7 @@ void AddIdentifyCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("identify", "identify a robot from a dataset (see kincal methods)");
   struct Args {
     std::string nominal, data, method, options, out, report, validate;
+    bool select = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "nominal robot file (the controller's model)")->required();
@@ -54,13 +58,20 @@ void AddIdentifyCommand(CLI::App& app) {
   cmd->add_option("--out", a->out, "identified robot file to write")->required();
   cmd->add_option("--report", a->report, "JSON report of every stage");
   cmd->add_option("--validate", a->validate, "held-out dataset to score the identified robot on");
+  cmd->add_flag("--select", a->select,
+                "select the joint-error model by blocked cross-validation (the last method's option select: true)");
   cmd->callback([a]() {
     const Robot nominal = ReadRobotFile(a->nominal);
     const Dataset all = ReadDataset(a->data);
     all.Validate(nominal.dof());
     const std::vector<std::string> methods = SplitComma(a->method);
     for (const auto& m : methods) Estimators().Get(m);  // unknown names fail before any work
-    const std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
+    std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
+    if (a->select) {
+      YAML::Node& last = options.back();
+      last = last && last.IsMap() ? YAML::Clone(last) : YAML::Node(YAML::NodeType::Map);
+      last["select"] = true;
+    }
     for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
       NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
     }
@@ -85,6 +96,7 @@ void AddIdentifyCommand(CLI::App& app) {
     for (const auto& r : reports) {
       std::cout << r.BriefReport() << "\n";
       for (const auto& w : r.warnings) std::cout << "  warning: " << w << "\n";
+      if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
       json["stages"].push_back(r.ToJson());
     }
     if (have_heldout) {
