@@ -12,6 +12,7 @@
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
+#include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/estimator.h"
 #include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
@@ -109,6 +110,17 @@ void AddIdentifyCommand(CLI::App& app) {
       json["validation"] = {{"unit", "mm"},
                             {"identified", StatsJson(after.position_stats, mm)},
                             {"nominal", StatsJson(before.position_stats, mm)}};
+      if (reports.back().details.contains("prediction_covariance")) {
+        // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
+        const PredictionCovariance cov = PredictionCovariance::FromJson(reports.back().details["prediction_covariance"]);
+        const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
+        const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
+        std::printf("held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
+                    "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
+                    check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
+                    100.0 * check.coverage_1d);
+        json["validation"]["uncertainty"] = check.ToJson();
+      }
     }
     // Both outputs are prepared before either is written, and each is written atomically.
     const std::string robot_text = RobotToYaml(identified);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/selection/select_error_model.h"
 
 namespace kincal {
@@ -39,6 +40,7 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   report->iterations = iterations;
   FinishErrorModel(prep, x, weighting, identified, report);
   nlohmann::json& d = report->details;
+  d["prediction_covariance"] = ComputePredictionCovariance(prep, x, weighting).ToJson();
   if (run.details.is_object()) d.update(run.details);
   d["initial_cost_m2"] = initial_cost;
   d["loss"] = options.weighting.loss;
