@@ -1,0 +1,139 @@
+// Model selection and prediction uncertainty on real data (estimators/selection/model_selection.h,
+// estimators/error_model/prediction_uncertainty.h). Even rows fit, odd rows scored, in measurement order.
+//   ur10_ipa2021 series D (632 ISO-cube poses; ur10_dh.yaml with a 100 mm tool and the richest file:
+//   gravity 2-5, harmonic 1 and 2, backlash and approach on every joint): every richer model predicts the
+//   odd rows worse than geometry (issue figures: geometry 0.401 mm, + gravity 2, 3 1.83 mm, full 1.42 mm),
+//   so selection must not pick one: held-out RMS <= 1.05 x the best of geometry, + gravity 2..5 and the
+//   full file, never above geometry, max <= 1.5 x geometry's.
+//   irb120_faro reflector 1 (irb120_joint_errors.yaml: gravity 2-5, approach 1-6): richer is right here;
+//   the selected model within 3 % of the full file's held-out RMS.
+// On both, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).
+// Skipped when the data folder is absent.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
+#include "robot/prediction.h"
+#include "tests/estimators/irb120_faro.h"
+#include "tests/support/test_util.h"
+
+namespace kincal::testing {
+namespace {
+
+// The source's CSV (';' separators, ',' decimal mark): joints (rad) and measurement_x/y/z (mm).
+bool LoadUr10Series(const std::string& path, Dataset* data) {
+  std::ifstream in(path);
+  if (!in) return false;
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  for (std::stringstream ss(line); std::getline(ss, line, ';');) header.push_back(line);
+  const std::vector<std::string> want = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
+                                         "wrist_2_joint", "wrist_3_joint", "measurement_x", "measurement_y",
+                                         "measurement_z"};
+  std::vector<int> column;
+  for (const auto& w : want) column.push_back(static_cast<int>(std::find(header.begin(), header.end(), w) - header.begin()));
+  data->dof = 6;
+  while (std::getline(in, line)) {
+    std::vector<double> f;
+    for (std::stringstream ss(line); std::getline(ss, line, ';');) {
+      std::replace(line.begin(), line.end(), ',', '.');
+      f.push_back(std::atof(line.c_str()));
+    }
+    Measurement m;
+    m.q = Eigen::VectorXd(6);
+    for (int j = 0; j < 6; ++j) m.q[j] = f.at(column[j]);
+    for (int k = 0; k < 3; ++k) m.p[k] = f.at(column[6 + k]) * 1e-3;
+    data->rows.push_back(m);
+  }
+  return true;
+}
+
+Robot Ur10Rich(int groups) {
+  Robot robot = LoadExampleRobot("ur10_dh.yaml");
+  robot.model().SetTool(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.1)));
+  robot.velocity_limits = (Eigen::VectorXd(6) << 120, 120, 180, 180, 180, 180).finished() * (M_PI / 180);
+  using T = JointErrorTerm::Type;
+  std::vector<JointErrorTerm> all;
+  const auto add = [&](T type, int joint) {
+    JointErrorTerm t;
+    t.type = type;
+    t.joint = joint;
+    if (type == T::kHarmonic) t.orders = {1, 2};
+    all.push_back(t);
+  };
+  for (int j = 1; j <= 4; ++j) add(T::kGravity, j);
+  for (T type : {T::kHarmonic, T::kBacklash, T::kApproach}) for (int j = 0; j < 6; ++j) add(type, j);
+  for (int g = 0; g < groups && g < static_cast<int>(all.size()); ++g) robot.joint_errors.terms.push_back(all[g]);
+  robot.joint_errors.Bind(robot.model());
+  return robot;
+}
+
+struct Scored {
+  double rms = NAN, max = NAN, coverage = NAN;
+  std::string chosen;
+};
+
+Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test, bool select) {
+  YAML::Node options;
+  options["max_iterations"] = 200;
+  if (select) options["select"] = true;
+  Robot identified;
+  const EstimationReport report = Estimators().Create("least_squares", options)->Estimate(start, train, &identified);
+  const PredictionErrors e = EvaluatePredictions(start, identified, test);
+  Scored s;
+  s.rms = e.position_stats.rms;
+  s.max = e.position_stats.max;
+  const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+  s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov).coverage;
+  if (select) {
+    for (const auto& c : report.details.at("selection").at("candidates")) {
+      if (c.at("chosen").get<bool>()) s.chosen = c.at("candidate").get<std::string>();
+    }
+  }
+  return s;
+}
+
+TEST(ModelSelectionRealData, Ur10SeriesDKeepsGeometry) {
+  Dataset all, train, test;
+  if (!LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_D/measurements_iso_cubes.csv"), &all)) {
+    GTEST_SKIP() << "no ../shared/data/ur10_ipa2021";
+  }
+  SplitEvenOdd(all, &train, &test);
+  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
+  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
+  double best = geometry.rms;
+  for (int groups : {1, 2, 3, 4, 22}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
+  std::printf("series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+              "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
+              best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.05 * best);
+  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
+  EXPECT_LE(selected.max, 1.5 * geometry.max);
+  EXPECT_GE(selected.coverage, 0.95);
+}
+
+TEST(ModelSelectionRealData, Irb120FaroKeepsTheRichModel) {
+  Dataset all, train, test;
+  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  SplitEvenOdd(all, &train, &test);
+  Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
+  rich.markers.clear();  // reflector 1 is the tool origin
+  const Scored selected = FitAndScore(rich, train, test, true);
+  const Scored full = FitAndScore(rich, train, test, false);
+  rich.joint_errors.terms.clear();
+  const Scored geometry = FitAndScore(rich, train, test, false);
+  std::printf("irb120_faro SMR1: selected %s, held-out RMS %.4f mm (full file %.4f, geometry %.4f); coverage %.3f\n",
+              selected.chosen.c_str(), selected.rms * 1e3, full.rms * 1e3, geometry.rms * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.03 * full.rms);
+  EXPECT_LT(selected.rms, 0.6 * geometry.rms);
+  EXPECT_GE(selected.coverage, 0.95);
+}
+
+}  // namespace
+}  // namespace kincal::testing
