@@ -25,7 +25,9 @@
 //      coefficients; a pseudo-inverse of the scaled matrix with relative eigenvalue cut 1e-12, where the
 //      identifiability analysis of error_model.h draws its line), and its held-out mean square is
 //      (c_t + 2 dx^T b_t + dx^T A_t dx) / rows: the linearised prediction of the block.
-// The fold's RMS is the square root; a candidate's CV RMS is the mean of its K fold RMS and se their
+// The fold's RMS is the square root, per session, averaged over the sessions of the block: sessions weigh
+// alike, so that the few rows that re-register the base of a new campaign (the ones that show how the
+// model carries over to it) count as much as the campaign it was fitted on. A candidate's CV RMS is the mean of its K fold RMS and se their
 // standard deviation over sqrt(K). The simplest candidate whose CV RMS is within one se of the best
 // (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the
 // start robot with that candidate's terms: the identified robot holds only the chosen terms.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <Eigen/Eigenvalues>
@@ -11,12 +12,24 @@
 namespace kincal {
 namespace {
 
-// Sums of one fold at the geometry fit: training normal equations, held-out position sums.
+// Held-out position sums of one session in a fold: sum J^T J, J^T r, |r|^2 and the row count.
+struct TestSums {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+  double c = 0.0;
+  int rows = 0;
+  // RMS of the held-out positions after the step dx (linearised).
+  double Rms(const Eigen::VectorXd& dx) const {
+    const double ms = (c + 2.0 * dx.dot(b) + dx.dot(A * dx)) / std::max(1, rows);
+    return std::sqrt(std::max(ms, 0.0));
+  }
+};
+
+// Sums of one fold at the geometry fit: training normal equations, held-out sums per session.
 struct FoldSums {
-  Eigen::MatrixXd A, A_test;
-  Eigen::VectorXd b, b_test;
-  double c_test = 0.0;
-  int test_rows = 0;
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+  std::map<int, TestSums> test;
 };
 
 FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& weighting,
@@ -24,9 +37,7 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
   const int p = problem.num_parameters();
   FoldSums s;
   s.A = Eigen::MatrixXd::Zero(p, p);
-  s.A_test = Eigen::MatrixXd::Zero(p, p);
   s.b = Eigen::VectorXd::Zero(p);
-  s.b_test = Eigen::VectorXd::Zero(p);
   const Eigen::VectorXd x = problem.InitialX();
   auto ws = problem.NewWorkspace();
   Vector6d r;
@@ -39,10 +50,12 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
     if (test) {
       const Eigen::MatrixXd Jp = J.topRows(3);
       const Eigen::Vector3d rp(r[0], r[1], r[2]);
-      s.A_test.noalias() += Jp.transpose() * Jp;
-      s.b_test.noalias() += Jp.transpose() * rp;
-      s.c_test += rp.squaredNorm();
-      ++s.test_rows;
+      TestSums& t = s.test[data.rows[i].session];
+      if (t.rows == 0) t.A = Eigen::MatrixXd::Zero(p, p), t.b = Eigen::VectorXd::Zero(p);
+      t.A.noalias() += Jp.transpose() * Jp;
+      t.b.noalias() += Jp.transpose() * rp;
+      t.c += rp.squaredNorm();
+      ++t.rows;
     } else {
       double rho = 0.0, rho_prime = 1.0;
       weighting.loss.Evaluate(r.head(n).squaredNorm(), &rho, &rho_prime);
@@ -136,8 +149,9 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
         if (column_term[j] < 0 || terms.count(column_term[j])) columns.push_back(static_cast<int>(j));
       }
       const Eigen::VectorXd dx = GaussNewtonStep(sums, columns);
-      const double ms = (sums.c_test + 2.0 * dx.dot(sums.b_test) + dx.dot(sums.A_test * dx)) / std::max(1, sums.test_rows);
-      scores[c].fold_rms.push_back(std::sqrt(std::max(ms, 0.0)));
+      double rms = 0.0;  // sessions weigh alike (model_selection.h)
+      for (const auto& [session, t] : sums.test) rms += t.Rms(dx) / sums.test.size();
+      scores[c].fold_rms.push_back(rms);
       scores[c].num_parameters = static_cast<int>(columns.size());
     }
   }
