@@ -5,6 +5,8 @@
 #include <map>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
+
 namespace kincal {
 namespace {
 
@@ -27,9 +29,27 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
   for (int i = 0; i < rows; ++i) {
     problem.EvaluateRow(i, x, ws.get(), &r, &J);
     for (int a = 0; a < q; ++a) Js.col(a) = J.col(used[a]).head<3>();
-    out[i] = std::sqrt(std::max(0.0, (Js * Cs * Js.transpose()).trace()));
+    const double variance = (Js * Cs * Js.transpose()).trace();
+    out[i] = variance > 0.0 ? std::sqrt(variance) : (variance == 0.0 ? 0.0 : NAN);
   }
   return out;
+}
+
+// (J^T W J)^+ in the column-normalised basis, eigenvalues below 1e-12 of the largest left out: a fit can
+// end with combinations the data hardly determine (condition numbers of 1e8 and more on the UR10), where
+// a Cholesky factorisation fails, yet they barely move the training poses' predictions.
+Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
+  const Eigen::Index p = JtJ.rows();
+  Eigen::VectorXd d(p);
+  for (Eigen::Index j = 0; j < p; ++j) d[j] = JtJ(j, j) > 0.0 ? 1.0 / std::sqrt(JtJ(j, j)) : 0.0;
+  const Eigen::MatrixXd S = d.asDiagonal() * JtJ * d.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  if (eig.info() != Eigen::Success) return Eigen::MatrixXd::Constant(p, p, NAN);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(p);
+  for (Eigen::Index j = 0; j < p; ++j) if (lambda[j] > cut && lambda[j] > 0.0) inv[j] = 1.0 / lambda[j];
+  return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
 }
 
 double Median(std::vector<double> v) {
@@ -80,11 +100,12 @@ PredictionCovariance PredictionCovariance::FromJson(const nlohmann::json& j) {
 PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep, const Eigen::VectorXd& x,
                                                  const RowWeighting& weighting) {
   const ErrorModelProblem& problem = *prep.problem;
-  const Covariance cov = ComputeCovariance(AccumulateNormalEquations(problem, x, weighting), problem.num_parameters());
+  const int p = problem.num_parameters();
+  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting);
   PredictionCovariance c;
   c.names = problem.ParameterNames();
-  c.matrix = cov.matrix;
-  c.sigma = cov.sigma;
+  c.sigma = ne.num_residuals > p ? std::sqrt(ne.irls_squares / (ne.num_residuals - p)) : NAN;
+  c.matrix = c.sigma * c.sigma * ScaledPseudoInverse(ne.JtJ);
   if (!c.matrix.allFinite()) return c;
   std::vector<int> columns(c.names.size());
   for (size_t j = 0; j < columns.size(); ++j) columns[j] = static_cast<int>(j);

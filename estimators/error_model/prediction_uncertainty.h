@@ -3,7 +3,9 @@
 //   sd(row) = sqrt(trace(J_row C J_row^T))                                                          (1)
 // J_row: the 3 x p Jacobian of the row's predicted position with respect to the fit's free parameters
 // (ErrorModelProblem::EvaluateRow, analytic), C: the fit's parameter covariance sigma^2 (J^T W J)^-1
-// (error_model.h). The trace, not the largest eigenvalue: sd^2 is then the expected squared length of the
+// (error_model.h; here with a pseudo-inverse that leaves out directions below 1e-12 of the largest
+// eigenvalue of the column-normalised J^T W J, so that a fit too ill-conditioned for the reported standard
+// deviations still predicts with an sd). The trace, not the largest eigenvalue: sd^2 is then the expected squared length of the
 // 3-D prediction error that comes from the parameters, the quantity a user compares with a 3-D error.
 //
 // The covariance travels in the identify report (details.prediction_covariance of the stage, written by
