@@ -118,6 +118,23 @@ for ra, rb in zip(a, b):
 assert same >= 7, same
 PY
 
+# The same plugin in the Python module (its own static copy of kincal, its own registries), when built.
+if [ -d "$BUILD/python" ] && ls "$BUILD"/python/kincal*.so >/dev/null 2>&1 && /usr/bin/python3 -c "import numpy" 2>/dev/null; then
+  PYTHONPATH="$BUILD/python" /usr/bin/python3 - "$P" "$R" <<'PY' || fail "the plugin in Python"
+import sys, numpy as np, kincal
+kincal.load_plugin(sys.argv[1])
+kincal.load_plugin(sys.argv[1])  # the same file again: nothing new
+nominal = kincal.load_robot(sys.argv[2] + "/seed_nominal.yaml")
+truth = kincal.load_robot(sys.argv[2] + "/seed_identified.yaml")
+data = kincal.simulate(nominal, truth, protocol="random", poses=50, noise=5e-6, seed=2)
+a, _ = kincal.identify(nominal, data, "least_squares")
+b, report = kincal.identify(nominal, data, "example_least_squares")
+assert np.array_equal(a.parameters, b.parameters) and report["estimator"] == "least_squares", report["estimator"]
+PY
+else
+  echo "check_example_plugin: the Python module is not built; its part skipped"
+fi
+
 # Refusals: exit 2 and one line each.
 expect_refusal() {
   local what="$1" pattern="$2"; shift 2
