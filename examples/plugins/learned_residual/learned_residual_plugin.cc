@@ -21,7 +21,8 @@ namespace {
 
 class LearnedResidualEstimator final : public kincal::Estimator {
  public:
-  explicit LearnedResidualEstimator(const KernelRidgeOptions& options) : options_(options) {}
+  LearnedResidualEstimator(const KernelRidgeOptions& options, bool in_tool_frame)
+      : options_(options), in_tool_frame_(in_tool_frame) {}
   std::string name() const override { return "learned_residual"; }
 
  private:
@@ -32,11 +33,13 @@ class LearnedResidualEstimator final : public kincal::Estimator {
     Eigen::MatrixXd X(n, start.dof()), Y(n, 3);
     for (size_t i = 0; i < n; ++i) {
       X.row(i) = kincal::ActualJointAngles(controller, start, data, i, previous).transpose();
-      Y.row(i) = (data.rows[i].p - kincal::PredictMarker(controller, start, data, i, previous)).transpose();
+      Eigen::Vector3d r = data.rows[i].p - kincal::PredictMarker(controller, start, data, i, previous);
+      if (in_tool_frame_) r = start.model().ForwardKinematics(X.row(i).transpose()).linear().transpose() * r;
+      Y.row(i) = r.transpose();
     }
     auto residual = std::make_shared<KernelRidge>();
     residual->Fit(X, Y, options_);
-    *identified = start.WithModel(std::make_unique<ResidualModel>(start.model().Clone(), residual));
+    *identified = start.WithModel(std::make_unique<ResidualModel>(start.model().Clone(), residual, in_tool_frame_));
     report->status = kincal::EstimationStatus::kConverged;
     std::string scales;
     for (int j = 0; j < residual->length_scales().size(); ++j) {
@@ -52,11 +55,17 @@ class LearnedResidualEstimator final : public kincal::Estimator {
   }
 
   KernelRidgeOptions options_;
+  bool in_tool_frame_;
 };
 
-KernelRidgeOptions ReadOptions(const YAML::Node& node) {
+KernelRidgeOptions ReadOptions(const YAML::Node& node, bool* in_tool_frame) {
   KernelRidgeOptions o;
   kincal::OptionsReader reader(node, "learned_residual");
+  std::string frame = "measurement";
+  reader.Get("frame", &frame);
+  if (frame != "measurement" && frame != "tool") reader.Fail("frame", "expected measurement or tool, got '" + frame + "'");
+  *in_tool_frame = frame == "tool";
+  reader.Get("ard_rounds", &o.ard_rounds);
   reader.Get("folds", &o.folds);
   int seed = static_cast<int>(o.seed);
   reader.Get("seed", &seed);
@@ -67,7 +76,7 @@ KernelRidgeOptions ReadOptions(const YAML::Node& node) {
   reader.Get("length_scales", &ignored);
   reader.Get("lambdas", &ignored);
   reader.Finish();
-  bool ok = o.folds >= 2 && !o.length_scales.empty() && !o.lambdas.empty();
+  bool ok = o.folds >= 2 && o.ard_rounds >= 0 && !o.length_scales.empty() && !o.lambdas.empty();
   for (double l : o.length_scales) ok = ok && l > 0 && std::isfinite(l);
   for (double l : o.lambdas) ok = ok && l > 0 && std::isfinite(l);
   if (!ok) throw std::invalid_argument("learned_residual: folds >= 2 and positive length_scales (rad) and lambdas");
@@ -83,6 +92,8 @@ KINCAL_PLUGIN(registrar) {
       "plugin: kernel ridge regression (Gaussian-process mean) of the position residual on the joint angles, "
       "on top of the robot it receives; hyper-parameters by cross-validation on the training rows",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
-        return std::make_unique<kincal_learned::LearnedResidualEstimator>(kincal_learned::ReadOptions(node));
+        bool in_tool_frame = false;
+        const auto options = kincal_learned::ReadOptions(node, &in_tool_frame);
+        return std::make_unique<kincal_learned::LearnedResidualEstimator>(options, in_tool_frame);
       });
 }

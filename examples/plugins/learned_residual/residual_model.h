@@ -1,11 +1,13 @@
 #pragma once
-// A kinematic model plus a learned position residual: T_meas_tool(q) = Translation(r(q)) * T_inner(q),
+// A kinematic model plus a learned position residual: T_meas_tool(q) = Translation(r(q)) * T_inner(q)
+// (or Translation(R_inner(q) r(q)) * T_inner(q), the residual in the tool frame),
 // with r a kernel ridge regression on the joint angles (kernel_ridge.h). Wrapped into the identified
 // robot, it is what every kincal piece sees: predictions and held-out scores include the residual, and
 // the compensators that solve the identified arm's forward kinematics (jacobian, analytic_derivative)
 // invert model plus residual. The parameters are the inner model's (an estimator after this one refines
 // the geometry under a fixed residual); the residual does not depend on them, so the parameter Jacobian is
-// the inner model's, and the joint Jacobian adds the residual's gradient to the position rows.
+// the inner model's, and the joint Jacobian adds the residual's gradient to the position rows (in the tool
+// frame, without the derivative of the rotation: a residual of a fraction of a millimetre turned by it).
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,7 +19,10 @@ namespace kincal_learned {
 
 class ResidualModel final : public kincal::KinematicModel {
  public:
-  ResidualModel(std::unique_ptr<kincal::KinematicModel> inner, std::shared_ptr<const KernelRidge> residual);
+  // in_tool_frame: the regression predicts the residual in the tool frame of the inner model (rotated into
+  // the measurement frame by its orientation at q), else in the measurement frame.
+  ResidualModel(std::unique_ptr<kincal::KinematicModel> inner, std::shared_ptr<const KernelRidge> residual,
+                bool in_tool_frame);
   std::unique_ptr<kincal::KinematicModel> Clone() const override;
   // The inner model's: robot files and the nominal inverse kinematics see that geometry (a robot file
   // written from this model keeps the geometry and loses the residual).
@@ -40,6 +45,7 @@ class ResidualModel final : public kincal::KinematicModel {
 
   std::unique_ptr<kincal::KinematicModel> inner_;
   std::shared_ptr<const KernelRidge> residual_;
+  bool in_tool_frame_ = false;
 };
 
 }  // namespace kincal_learned
