@@ -135,6 +135,13 @@ else
   echo "check_example_plugin: the Python module is not built; its part skipped"
 fi
 
+# The learned residual plugin builds the same way and is listed beside the example's (tested in
+# learned_residual_test).
+cmake -S "$SRC/examples/plugins/learned_residual" -B "$WORK/learned" $GEN -DCMAKE_PREFIX_PATH="$WORK/prefix" >/dev/null
+cmake --build "$WORK/learned" >/dev/null
+"$K" --plugin "$P" --plugin "$WORK/learned/libkincal_learned_residual.so" methods | grep -q "learned_residual" \
+  || fail "the learned residual plugin is not listed"
+
 # Refusals: exit 2 and one line each.
 expect_refusal() {
   local what="$1" pattern="$2"; shift 2

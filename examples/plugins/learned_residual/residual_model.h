@@ -1,13 +1,13 @@
 #pragma once
-// A kinematic model plus a learned position residual: T_meas_tool(q) = Translation(r(q)) * T_inner(q)
-// (or Translation(R_inner(q) r(q)) * T_inner(q), the residual in the tool frame),
+// A kinematic model plus a learned position residual: T_meas_tool(q) = Translation(R_meas_base r(q)) *
+// T_inner(q), the residual in the robot's base frame (or Translation(R_meas_tool(q) r(q)) * T_inner(q), in
+// the tool frame: both move with the session bases, which transform the whole pose),
 // with r a kernel ridge regression on the joint angles (kernel_ridge.h). Wrapped into the identified
 // robot, it is what every kincal piece sees: predictions and held-out scores include the residual, and
 // the compensators that solve the identified arm's forward kinematics (jacobian, analytic_derivative)
 // invert model plus residual. The parameters are the inner model's (an estimator after this one refines
 // the geometry under a fixed residual); the residual does not depend on them, so the parameter Jacobian is
-// the inner model's, and the joint Jacobian adds the residual's gradient to the position rows (in the tool
-// frame, without the derivative of the rotation: a residual of a fraction of a millimetre turned by it).
+// the inner model's, and the joint Jacobian adds the residual's derivative to the position rows.
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,7 +20,7 @@ namespace kincal_learned {
 class ResidualModel final : public kincal::KinematicModel {
  public:
   // in_tool_frame: the regression predicts the residual in the tool frame of the inner model (rotated into
-  // the measurement frame by its orientation at q), else in the measurement frame.
+  // the measurement frame by its orientation at q), else in its base frame.
   ResidualModel(std::unique_ptr<kincal::KinematicModel> inner, std::shared_ptr<const KernelRidge> residual,
                 bool in_tool_frame);
   std::unique_ptr<kincal::KinematicModel> Clone() const override;
@@ -42,6 +42,10 @@ class ResidualModel final : public kincal::KinematicModel {
 
  private:
   void OnParametersChanged() override { inner_->SetParameters(Parameters()); }
+  // The residual at q in the measurement frame, given the inner pose's rotation there.
+  Eigen::Vector3d Offset(const Eigen::VectorXd& q, const Eigen::Matrix3d& R_meas_tool) const;
+  // The rotation that takes the regression's frame to the measurement frame.
+  Eigen::Matrix3d FrameRotation(const Eigen::Matrix3d& R_meas_tool) const;
 
   std::unique_ptr<kincal::KinematicModel> inner_;
   std::shared_ptr<const KernelRidge> residual_;
