@@ -40,3 +40,26 @@ def test_01_conventions(tmp_path):
         # Craig's frame on the common normal of nearly parallel axes: |d_2| = a_2 / tan(beta), a_2 = 431.8 mm.
         assert abs(abs(d2) - 431.8 / math.tan(math.radians(beta))) < 1e-3 * abs(d2), out
         assert gap < 1e-6, out
+
+
+def test_02_circle_point_analysis(tmp_path):
+    out = run("02_circle_point_analysis", tmp_path)
+    steps = numbers(r"joint \d: plane flatness (\S+) mm, axis direction error (\S+) deg, axis position error (\S+) mm", out)
+    assert len(steps) == 6, out
+    for flatness, direction, position in steps:  # 0.1 mm noise per axis: at most a few sigma from flat
+        assert 0.02 < flatness < 0.5 and direction < 5 and position < 5, out
+    normal = numbers(r"noise (\S+) mm, common normal of axes 2 and 3: a_3 = (\S+) mm, alpha_3 = (\S+) deg", out)
+    # Without noise the common normal is exactly the truth's row 3 (the seed's Table 2: 1.68 mm, 90.24 deg).
+    assert normal[0][0] == 0 and abs(normal[0][1] - 1.68) < 1e-4 and abs(normal[0][2] - 90.24) < 1e-4, out
+    assert abs(normal[1][1] - 1.68) < 3 and abs(normal[1][2] - 90.24) < 1, out
+    rms = {}
+    for line in out.splitlines():
+        if "RMS over 40 runs" in line:
+            direction, position = line.split("direction")[1].split("deg; position")
+            rms[line.split()[0]] = ([float(v) for v in direction.split()], [float(v) for v in position.split()[:-1]])
+    short, wide = rms["2"], rms["10"]
+    # A 110-degree arc pins both the normal and the centre several times better than a 38-degree one.
+    for j in range(6):
+        assert wide[0][j] < short[0][j] / 2.5 and wide[1][j] < short[1][j] / 2.5, out
+    # The seed's protocol leaves joint 6 (the 50 mm arc) with the worst direction, about a degree and a half.
+    assert max(short[0]) == short[0][5] and 0.8 < short[0][5] < 3, out
