@@ -63,3 +63,20 @@ def test_02_circle_point_analysis(tmp_path):
         assert wide[0][j] < short[0][j] / 2.5 and wide[1][j] < short[1][j] / 2.5, out
     # The seed's protocol leaves joint 6 (the 50 mm arc) with the worst direction, about a degree and a half.
     assert max(short[0]) == short[0][5] and 0.8 < short[0][5] < 3, out
+
+
+def test_03_reduction_ratios(tmp_path):
+    out = run("03_reduction_ratios", tmp_path)
+    ratios = numbers(r"nominal\s+(\S+), slope of the arc\s+(\S+), ratio_regression\s+(\S+) \+- (\S+), Table 3\s+(\S+)", out)
+    assert len(ratios) == 6, out
+    for nominal, slope, regression, stddev, table3 in ratios:
+        assert abs(slope - regression) < 0.05, out  # the program's regression is the library's
+        assert abs(regression - table3) < 4 * stddev and stddev < 0.003 * table3, out  # the truth is Table 3
+        assert abs(regression - nominal) > 1, out
+    turns = numbers(r"commanded 90 deg: turns (\S+) deg \(90 x nominal / actual ratio = (\S+)\), tool (\S+) mm away", out)
+    assert len(turns) == 6, out
+    for (turned, expected, tool), (nominal, _, _, _, table3) in zip(turns, ratios):
+        # q_actual = q_commanded K_nominal / K_actual, to the encoder's resolution.
+        assert abs(expected - 90 * nominal / table3) < 1e-3 and abs(turned - expected) < 1e-3, out
+        assert 0.1 < tool < 5, out
+    assert turns[1][2] > 2.0, out  # joint 2's 0.2 % is 2 mm at the tool
