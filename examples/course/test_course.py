@@ -80,3 +80,25 @@ def test_03_reduction_ratios(tmp_path):
         assert abs(expected - 90 * nominal / table3) < 1e-3 and abs(turned - expected) < 1e-3, out
         assert 0.1 < tool < 5, out
     assert turns[1][2] > 2.0, out  # joint 2's 0.2 % is 2 mm at the tool
+
+
+def test_04_error_model(tmp_path):
+    out = run("04_error_model", tmp_path)
+    assert out.count("J is 360 x 36, rank 27, 9 combinations unobservable") == 2, out
+    combos = {m[0]: (m[1], float(m[2])) for m in re.findall(r"^  (\w+)\s+= (.*?) residual (\S+);", out, re.M)}
+    assert sorted(combos) == ["a_1", "alpha_1", "d_1", "d_6", "theta_1", "theta_6"], out
+    assert all(residual < 1e-9 for _, residual in combos.values()), out  # exact redundancies
+    for name, partner in [("alpha_1", "base_roll"), ("a_1", "base_x"), ("theta_1", "base_yaw"), ("d_1", "base_z"),
+                          ("d_6", "tool_z")]:
+        assert combos[name][0].startswith(f"+1.000 {partner}"), out
+    # Turning joint 6 moves the tool origin (40, 30, 100) mm by (-30, 40) mm per radian: theta_6 is the tool's xy.
+    assert combos["theta_6"][0].split() == ["+0.040", "tool_y", "-0.030", "tool_x"], out
+    indices = {}
+    for label, values, source in re.findall(r"^(\w+): (O1 .*) \((library|from J here)\)", out, re.M):
+        indices[label, source] = [float(v) for v in values.split()[1::2]]
+    for label in ("sweeps", "random"):  # the same definitions, J at the nominal instead of the placed start
+        for lib, here in zip(indices[label, "library"], indices[label, "from J here"]):
+            assert abs(here - lib) < 0.1 * lib, out
+    # Random poses observe every direction better; the sweeps leave one nearly blind (O3 about 100 times smaller).
+    assert all(r > s for r, s in zip(indices["random", "library"], indices["sweeps", "library"])), out
+    assert indices["random", "library"][2] > 30 * indices["sweeps", "library"][2], out
