@@ -102,3 +102,19 @@ def test_04_error_model(tmp_path):
     # Random poses observe every direction better; the sweeps leave one nearly blind (O3 about 100 times smaller).
     assert all(r > s for r, s in zip(indices["random", "library"], indices["sweeps", "library"])), out
     assert indices["random", "library"][2] > 30 * indices["sweeps", "library"][2], out
+
+
+def test_05_four_solvers(tmp_path):
+    out = run("05_four_solvers", tmp_path)
+    rows = {m[0]: (m[1], int(m[2]), float(m[3]), float(m[4]), float(m[5])) for m in re.findall(
+        r"^(\w+)\s+(\w+)\s+(\d+) iterations\s+(\S+) ms, residual RMS (\S+) mm, held-out error (\S+) mm", out, re.M)}
+    assert sorted(rows) == ["ceres", "ipopt", "least_squares", "nlopt"], out
+    reference = rows["least_squares"]
+    for status, iterations, ms, rms, held_out in rows.values():
+        assert status == "converged" and ms < 2000, out
+        assert abs(rms - reference[3]) < 1e-6 and abs(held_out - reference[4]) < 1e-6, out
+    # 60 poses x 3 rows, 39 parameters, 10 um per axis: residual RMS about 10 um sqrt(3 (180 - 39) / 180) = 15 um.
+    assert 0.012 < reference[3] < 0.018 and reference[4] < 0.015, out
+    assert reference[1] <= 10 and rows["nlopt"][1] > max(rows["ceres"][1], rows["ipopt"][1]), out
+    gaps = dict(re.findall(r"^(\w+)\s+largest parameter difference from least_squares (\S+)", out, re.M))
+    assert all(float(g) < 1e-8 for g in gaps.values()) and len(gaps) == 4, out
