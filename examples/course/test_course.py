@@ -118,3 +118,22 @@ def test_05_four_solvers(tmp_path):
     assert reference[1] <= 10 and rows["nlopt"][1] > max(rows["ceres"][1], rows["ipopt"][1]), out
     gaps = dict(re.findall(r"^(\w+)\s+largest parameter difference from least_squares (\S+)", out, re.M))
     assert all(float(g) < 1e-8 for g in gaps.values()) and len(gaps) == 4, out
+
+
+def test_06_compensation(tmp_path):
+    out = run("06_compensation", tmp_path)
+    rows = {m[0]: tuple(float(v) for v in m[1:]) for m in re.findall(
+        r"^(\w+)\s+converged\s+(\d+)/20, iterations median (\S+) max (\S+); on the real arm: position median (\S+) "
+        r"max (\S+) mm, orientation mean (\S+) deg", out, re.M)}
+    assert sorted(rows) == ["analytic_derivative", "jacobian", "joint_space", "none"], out
+    # Uncompensated, the nominal model and ratios leave millimetres and about a degree (the seed: 2.83 mm, 1.14 deg).
+    assert 2 < rows["none"][3] < 20 and 0.5 < rows["none"][5] < 3, out
+    for method in ("analytic_derivative", "jacobian"):
+        converged, median_iterations, _, median, worst, orientation = rows[method]
+        assert converged == 20 and median_iterations <= 5 and worst < 1e-8 and orientation < 1e-9, out
+    assert rows["joint_space"][0] >= 15 and rows["joint_space"][3] < 1e-6, out
+    for method in ("analytic_derivative", "jacobian"):
+        curve = [float(v) for v in re.search(method + r"\s+median position error after 1-5 iterations: (.*) mm",
+                                             out).group(1).split()]
+        # Newton: the error (in mm) about squares each step until rounding, 1e-12 mm, after 3 to 4 steps.
+        assert curve[0] > 1e-3 and curve[1] < 1e-6 and max(curve[2:]) < 5e-12, out
