@@ -137,3 +137,16 @@ def test_06_compensation(tmp_path):
                                              out).group(1).split()]
         # Newton: the error (in mm) about squares each step until rounding, 1e-12 mm, after 3 to 4 steps.
         assert curve[0] > 1e-3 and curve[1] < 1e-6 and max(curve[2:]) < 5e-12, out
+
+
+def test_07_cramer_rao(tmp_path):
+    out = run("07_cramer_rao", tmp_path)
+    (sigma,), = numbers(r"sigma from the residuals, mean over the runs (\S+) um", out)
+    assert 19 < sigma < 21, out  # unbiased: residual sum of squares over (120 - 33) degrees of freedom
+    rows = numbers(r"Monte Carlo\s+(\S+) \S*\s*reported\s+(\S+) \S*\s*ratio (\S+)", out)
+    assert len(rows) == 6, out
+    for monte_carlo, reported, ratio in rows:
+        assert 0.85 < ratio < 1.15 and abs(monte_carlo / reported - ratio) < 0.01, out
+    (median, low, high, sampling), = numbers(r"median (\S+), range (\S+) to (\S+) \(200 runs: \+-(\S+) sampling", out)
+    # 200 runs estimate a standard deviation to 5 %: the median within 2 of that, every one within 4.
+    assert abs(median - 1) < 2 * sampling and 1 - 4 * sampling < low and high < 1 + 4 * sampling, out
