@@ -150,3 +150,23 @@ def test_07_cramer_rao(tmp_path):
     (median, low, high, sampling), = numbers(r"median (\S+), range (\S+) to (\S+) \(200 runs: \+-(\S+) sampling", out)
     # 200 runs estimate a standard deviation to 5 %: the median within 2 of that, every one within 4.
     assert abs(median - 1) < 2 * sampling and 1 - 4 * sampling < low and high < 1 + 4 * sampling, out
+
+
+def test_08_real_arm(tmp_path):
+    data = COURSE.parents[1] / ".." / "shared" / "data" / "irb120_faro"
+    if not (data / "processed_joints.txt").exists():
+        out = run("08_real_arm", tmp_path, data)
+        assert out.startswith("skipped:"), out
+        if os.environ.get("KINCAL_REQUIRE_DATA") == "1":
+            pytest.fail(f"KINCAL_REQUIRE_DATA=1 and no IRB 120 data in {data}")
+        pytest.skip(f"no IRB 120 data in {data}")
+    out = run("08_real_arm", tmp_path, data)
+    rows = {m[0]: (m[1], int(m[2]), float(m[3]), float(m[4])) for m in re.findall(
+        r"^(geometry|\+ gravity|\+ approach)\s+(\w+)\s+(\d+) parameters, fit RMS (\S+) mm, held-out RMS (\S+) mm", out, re.M)}
+    assert list(rows) == ["geometry", "+ gravity", "+ approach"], out
+    assert all(status == "converged" for status, *_ in rows.values()), out
+    # tests/estimators/joint_errors_real_data_test.cc: 0.525, 0.461 and 0.275 mm held out with least_squares.
+    for label, expected in [("geometry", 0.525), ("+ gravity", 0.461), ("+ approach", 0.275)]:
+        assert abs(rows[label][3] - expected) < 0.01, out
+        assert abs(rows[label][2] - rows[label][3]) < 0.05, out  # no overfitting: 491 rows against 51 parameters
+    assert rows["geometry"][1] < rows["+ gravity"][1] < rows["+ approach"][1], out
