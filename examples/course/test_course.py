@@ -170,3 +170,18 @@ def test_08_real_arm(tmp_path):
         assert abs(rows[label][3] - expected) < 0.01, out
         assert abs(rows[label][2] - rows[label][3]) < 0.05, out  # no overfitting: 491 rows against 51 parameters
     assert rows["geometry"][1] < rows["+ gravity"][1] < rows["+ approach"][1], out
+
+
+def test_09_overfitting(tmp_path):
+    out = run("09_overfitting", tmp_path)
+    curve = {int(m[0]): (int(m[1]), float(m[2]), int(m[3]), float(m[4])) for m in re.findall(
+        r"^\s*(\d+) poses: geometry (\d+) free, held-out (\S+) mm; \+ harmonics (\d+) free, held-out (\S+) mm;", out, re.M)}
+    assert sorted(curve) == [25, 40, 60, 100, 200, 400], out
+    assert all(c[0] == 33 and c[2] == 57 for c in curve.values()), out  # 24 harmonic coefficients more
+    for n in (25, 40, 60):  # too few poses for 57 parameters: the richer model predicts worse
+        assert curve[n][3] > 1.3 * curve[n][1], out
+    assert curve[400][3] < 0.7 * curve[400][1], out  # enough poses: it captures the eccentricity
+    assert curve[400][3] < curve[25][3] / 4, out
+    choices = re.findall(r"^\s*(\d+) poses, 5-fold cross-validation: .* -> chooses (.+); held-out best: (.+)$", out, re.M)
+    assert [(n, chosen) for n, chosen, _ in choices] == [("40", "geometry"), ("400", "+ harmonics")], out
+    assert all(chosen == best for _, chosen, best in choices), out
