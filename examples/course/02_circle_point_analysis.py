@@ -53,13 +53,11 @@ def sweep_axes(data):
     return axes
 
 
-data = kincal.simulate(nominal, truth, protocol="sweep", stops=20, step=np.radians(2), noise=1e-4, seed=1)
-axes = sweep_axes(data)
-for j, (S, z, angle, offset, plane) in sorted(axes.items()):
-    print(f"joint {j}: plane flatness {plane * 1e3:.3f} mm, axis direction error {angle:.4f} deg, "
-          f"axis position error {offset * 1e3:.3f} mm")
-for noise in (0.0, 1e-4):  # noise-free, the common normal gives the truth's row exactly
+for noise in (0.0, 1e-4):  # without noise, the common normal gives the truth's row exactly
     fit = sweep_axes(kincal.simulate(nominal, truth, protocol="sweep", noise=noise, seed=1))
+    for j, (S, z, angle, offset, plane) in sorted(fit.items()) if noise else []:
+        print(f"joint {j}: plane flatness {plane * 1e3:.3f} mm, axis direction error {angle:.4f} deg, "
+              f"axis position error {offset * 1e3:.3f} mm")
     (S2, z2), (S3, z3) = fit[2][:2], fit[3][:2]
     x2 = np.cross(z2, z3) / np.linalg.norm(np.cross(z2, z3))
     print(f"noise {noise * 1e3:.1f} mm, common normal of axes 2 and 3: a_3 = {abs((S3 - S2) @ x2) * 1e3:.4f} mm, "
