@@ -38,7 +38,7 @@ def test_01_conventions(tmp_path):
     assert len(tilts) == 6, out
     for beta, d2, expected, gap in tilts:
         # Craig's frame on the common normal of nearly parallel axes: |d_2| = a_2 / tan(beta), a_2 = 431.8 mm.
-        assert abs(abs(d2) - 431.8 / math.tan(math.radians(beta))) < 1e-3 * abs(d2), out
+        assert abs(expected - 431.8 / math.tan(math.radians(beta))) < 0.1 and abs(abs(d2) - expected) < 0.1, out
         assert gap < 1e-6, out
 
 
