@@ -97,6 +97,12 @@ void AddIdentifyCommand(CLI::App& app) {
       json["validation"] = {{"unit", "mm"},
                             {"identified", StatsJson(after.position_stats, mm)},
                             {"nominal", StatsJson(before.position_stats, mm)}};
+      if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
+        std::printf("held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
+                    after.orientation_stats.count, after.orientation_stats.mean * 1e3,
+                    after.orientation_stats.rms * 1e3, after.orientation_stats.max * 1e3);
+        json["validation"]["orientation"] = {{"unit", "mrad"}, {"identified", StatsJson(after.orientation_stats, 1e3)}};
+      }
     }
     // Both outputs are prepared before either is written, and each is written atomically.
     const std::string robot_text = RobotToYaml(identified);

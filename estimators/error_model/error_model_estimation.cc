@@ -35,6 +35,8 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   if (run.details.is_object()) d.update(run.details);
   d["initial_cost_m2"] = initial_cost;
   d["loss"] = options.weighting.loss;
+  // The weight of orientation against position in the residuals (m per rad), where rows measured one.
+  if (data.HasOrientation()) d["orientation_length_m_per_rad"] = options.error_model.orientation_length;
   if (run.parameters_at_bounds >= 0) ReportParametersAtBounds(estimator, run.parameters_at_bounds, report);
 }
 
