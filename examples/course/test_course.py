@@ -157,8 +157,9 @@ def test_08_real_arm(tmp_path):
     if not (data / "processed_joints.txt").exists():
         out = run("08_real_arm", tmp_path, data)
         assert out.startswith("skipped:"), out
+        # As python/tests/conftest.py's skip_without_data: a failure under KINCAL_REQUIRE_DATA=1.
         if os.environ.get("KINCAL_REQUIRE_DATA") == "1":
-            pytest.fail(f"KINCAL_REQUIRE_DATA=1 and no IRB 120 data in {data}")
+            pytest.fail(f"KINCAL_REQUIRE_DATA=1, but no IRB 120 data in {data}")
         pytest.skip(f"no IRB 120 data in {data}")
     out = run("08_real_arm", tmp_path, data)
     rows = {m[0]: (m[1], int(m[2]), float(m[3]), float(m[4])) for m in re.findall(
