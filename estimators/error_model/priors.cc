@@ -77,7 +77,7 @@ void ReadPriorOptions(OptionsReader* reader, PriorOptions* prior) {
     }
     return;
   }
-  reader->Get("prior", &flag);  // marks the key read
+  reader->MarkRead("prior");
   if (!value.IsMap()) reader->Fail("prior", "expected on, off or a map by kind or parameter name");
   prior->enabled = true;
   for (const auto& kv : value) {

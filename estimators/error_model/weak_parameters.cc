@@ -131,6 +131,9 @@ std::vector<int> ChooseWeakToHold(const ErrorModelProblem& problem, const Eigen:
     for (auto& w : *weak) w.held = w.held || w.name == problem.parameters()[active[pick]].name;
     active.erase(active.begin() + pick);
   }
+  // Without a prior, what holding the others determined is no longer weak.
+  weak->erase(std::remove_if(weak->begin(), weak->end(), [](const WeakParameter& w) { return !w.held && !w.has_prior; }),
+              weak->end());
   return hold;
 }
 

@@ -40,7 +40,7 @@ std::vector<WeakParameter> FindWeakParameters(const ErrorModelProblem& problem, 
 
 // The parameters without a prior to hold, greedily: while some are weak, the one with the largest
 // data_sd / reference_sd is removed and the rest re-analysed (indices into problem.parameters()).
-// *weak receives every weak parameter of the first analysis (held ones marked).
+// *weak receives the weak parameters of the first analysis that are held or have a prior (held ones marked).
 std::vector<int> ChooseWeakToHold(const ErrorModelProblem& problem, const Eigen::MatrixXd& JtJ_data, double sigma,
                                   std::vector<WeakParameter>* weak);
 
