@@ -77,8 +77,9 @@ struct ErrorModelBounds {
 // kind (key: default under `prior: on`):
 //   length 1 mm (a_i, d_i), angle 2 mrad (alpha_i, beta_i), joint_offset 20 mrad (theta_i, or d_i of a
 //   prismatic joint), ratio 0.005 (relative), and per joint error type the RMS joint offset one
-//   coefficient makes over the dataset: gravity 2 mrad, harmonic 0.5 mrad, backlash 0.5 mrad,
-//   approach 0.5 mrad. Base, tool, markers and session bases: no prior (free), unless named.
+//   coefficient makes over the dataset, or per unit regressor (1 m of lever arm, 1 rad/s) where the
+//   dataset moves it less: gravity 0.5 mrad, harmonic 0.1 mrad, backlash 0.1 mrad, approach 0.1 mrad
+//   (a strain-wave gear's transmission error and lost motion are tens of arc seconds). Base, tool, markers and session bases: no prior (free), unless named.
 // Keys in the estimator's options: `prior: on|off`, or a map by kind or parameter name, values with a
 // unit ("1mm", "2mrad", "0.1deg"; plain numbers SI), e.g. `prior: {length: 0.5mm, theta_2: 5mrad}` (the
 // kinds not given keep their defaults; `none` removes a prior); `prior_noise` (length, per residual;

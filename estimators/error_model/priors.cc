@@ -52,8 +52,8 @@ double PriorOptions::DefaultSd(const std::string& kind) {
   if (kind == "angle") return 2e-3;
   if (kind == "joint_offset") return 20e-3;
   if (kind == "ratio") return 5e-3;
-  if (kind == "gravity") return 2e-3;
-  if (kind == "harmonic" || kind == "backlash" || kind == "approach") return 0.5e-3;
+  if (kind == "gravity") return 0.5e-3;
+  if (kind == "harmonic" || kind == "backlash" || kind == "approach") return 0.1e-3;
   return 0.0;
 }
 
@@ -102,8 +102,12 @@ void ErrorModelProblem::AssignPriors() {
       case Group::kJointError: p->prior_kind = p->name.substr(0, p->name.find('_')); break;
       default: p->prior_kind.clear(); break;
     }
-    // Joint error kinds are given as the RMS joint offset one coefficient makes.
-    const double per_unit = p->group == Group::kJointError ? 1.0 / regressor_rms_[p->coefficient] : 1.0;
+    // Joint error kinds are given as the RMS joint offset one coefficient makes over the dataset, or
+    // per unit of its regressor (1 m of lever arm, 1 rad/s) where the dataset moves it less: a regressor
+    // that hardly varies over the poses must not give its coefficient a prior wide enough to predict
+    // metres wherever it does vary.
+    const double per_unit =
+        p->group == Group::kJointError ? 1.0 / std::max(regressor_rms_[p->coefficient], 1.0) : 1.0;
     const std::string reference_kind = !p->prior_kind.empty() ? p->prior_kind : p->kind == Kind::kLength ? "length" : "angle";
     p->reference_sd = PriorOptions::DefaultSd(reference_kind) * per_unit;
     p->prior_mean = p->start;

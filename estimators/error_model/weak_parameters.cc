@@ -53,7 +53,9 @@ Eigen::VectorXd DataStddev(const ErrorModelProblem& problem, const Eigen::Matrix
   if (eig.info() != Eigen::Success) return sd;
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
   const Eigen::MatrixXd& V = eig.eigenvectors();
-  const double floor = 1e-14 * std::max(lambda.maxCoeff(), 0.0);
+  // Below this eigenvalue a direction is not determined by the data; a parameter takes part in it when
+  // its component exceeds 1e-3 (smaller ones are rounding of an unrelated direction).
+  const double floor = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
   const std::vector<ErrorModelParameter>& ps = problem.parameters();
   for (int i = 0; i < p; ++i) {
     if (!(d[i] > 0.0)) continue;
@@ -61,7 +63,7 @@ Eigen::VectorXd DataStddev(const ErrorModelProblem& problem, const Eigen::Matrix
     int worst_k = -1;
     for (int k = 0; k < p; ++k) {
       const double share = V(i, k) * V(i, k);
-      const double contribution = lambda[k] > floor ? share / lambda[k] : (share > 1e-12 ? inf : 0.0);
+      const double contribution = lambda[k] > floor ? share / lambda[k] : (share > 1e-6 ? inf : 0.0);
       var += contribution;
       if (contribution > worst) {
         worst = contribution;
