@@ -72,6 +72,7 @@ PreparedErrorModel RebuiltAt(const Eigen::VectorXd& solution, const RowWeighting
   next.input = prep.input;
   next.start = at_solution;
   next.warnings = prep.warnings;
+  next.placement_notes = prep.placement_notes;
   next.placed = prep.placed;
   next.registered_rms = prep.registered_rms;
   next.weak = prep.weak;
@@ -98,7 +99,9 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   // Validates everything (throws) before the registration runs on the data.
   { const ErrorModelProblem check(prep.input, controller, data, options); }
   const StartPlacement placement = PlaceStart(controller, data, options, &prep.start);
-  prep.warnings = placement.warnings;
+  for (const std::string& w : placement.warnings) {
+    (w.find("too little to place the markers") != std::string::npos ? prep.placement_notes : prep.warnings).push_back(w);
+  }
   prep.placed = placement.placed;
   AnalyzeAndHold(controller, data, options, weighting, &prep, nullptr);
   prep.registered_rms = prep.initial.PositionRms();
@@ -282,6 +285,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["cost"] = ne.cost;
   d["registered_start_rms_m"] = Finite(prep.registered_rms);
   d["placed_in_closed_form"] = prep.placed;
+  d["placement_notes"] = prep.placement_notes;
   d["rank"] = a.rank;
   d["observability"] = {{"O1", a.observability.o1}, {"O2", a.observability.o2}, {"O3", a.observability.o3},
                         {"O4", a.observability.o4}, {"O5", a.observability.o5},
@@ -304,7 +308,8 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
     report->warnings.push_back("weakly identifiable without a prior, held at the start value (add poses that move "
                                "them, or give them a prior): " + held_weak);
   }
-  if (!free_weak.empty()) report->warnings.push_back("weakly identifiable, determined mostly by the prior: " + free_weak);
+  // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
+  if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;
 }
 
 bool FinishIfNothingFree(const PreparedErrorModel& prepared, Robot* identified, EstimationReport* report) {

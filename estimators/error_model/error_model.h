@@ -41,6 +41,9 @@ struct PreparedErrorModel {
   NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
   double registered_rms = NAN;                  // position RMS of the start once placed, m
   std::vector<std::string> warnings;
+  // What the placement fell back on but the fit normally recovers from (markers placed from the robot
+  // file's positions first): details.placement_notes, and warnings only when the fit did not converge.
+  std::vector<std::string> placement_notes;
   // Weakly identifiable parameters (weak_parameters.h) found at the first solution, and those of them
   // held because they have no prior (name, reason), kept when the problem is rebuilt.
   std::vector<WeakParameter> weak;

@@ -48,9 +48,12 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   const auto converged = [](const MinimizerRun& run) { return run.status == EstimationStatus::kConverged; };
   MinimizerRun run = run_from();
   if (converged(run) && ReanalyzeIdentifiability(x, weighting, &prep, &x)) run = run_from();
-  if (converged(run) && HoldWeakParameters(x, weighting, &prep, &x)) run = run_from();
+  // Where a bounded solver ended on a bound, the bound decided those parameters, not the data: the weak
+  // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
+  const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
+  if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) run = run_from();
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
-  if (converged(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
+  if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
     for (int pass = 0; pass < 8; ++pass) {
       const double sigma = SigmaAt(*prep.problem, x, weighting);
       const double noise = prep.problem->prior_noise();
@@ -64,6 +67,9 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   report->message = run.message;
   report->iterations = iterations;
   FinishErrorModel(prep, x, weighting, identified, report);
+  if (!converged(run)) {
+    for (const auto& note : prep.placement_notes) report->warnings.push_back(note);
+  }
   nlohmann::json& d = report->details;
   if (run.details.is_object()) d.update(run.details);
   d["initial_cost_m2"] = initial_cost;
