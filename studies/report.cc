@@ -314,8 +314,13 @@ void WriteReport(const std::string& dir) {
     for (const auto& validation : data.Validations(v)) {
       if (data.IsIso(validation)) {
         o << "### ISO 9283: " << Cell(validation) << "\n\n";
+        if (!var.simulated) {
+          o << "Measured: the test rows' poses visited at least twice, numbered P1, P2, ... by first visit; the "
+               "commanded pose in the instrument's frame is where each model puts it (studies/measured_iso9283.h), "
+               "so AP is the accuracy left after compensating with that model and RP is the arm's own.\n\n";
+        }
         IsoTable(o, data, v, validation);
-        o << "Errors at P1..P5 themselves (no noise):\n\n";
+        o << (var.simulated ? "Errors at P1..P5 themselves (no noise):\n\n" : "Prediction errors at every visit of those poses:\n\n");
       } else {
         o << "### Validation " << Cell(validation) << "\n\n";
       }
