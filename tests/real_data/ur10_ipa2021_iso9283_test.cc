@@ -91,7 +91,7 @@ TEST_F(Ur10Iso9283, ExampleStudyAgainstTheCommandedPoses) {
   const auto column = [&](const std::string& name) {
     return static_cast<size_t>(std::find(iso[0].begin(), iso[0].end(), name) - iso[0].begin());
   };
-  std::map<std::string, double> ap_max, rp_max;
+  std::map<std::string, double> ap_max, rp_max, ap_abc_max, rp_abc_max;  // mm, mm, deg, deg
   std::vector<double> ap_base_only;  // per pose, P1..: the nominal robot with only its base fitted
   for (size_t i = 1; i < iso.size(); ++i) {
     const std::string estimator = iso[i][column("estimator")];
@@ -99,6 +99,12 @@ TEST_F(Ur10Iso9283, ExampleStudyAgainstTheCommandedPoses) {
     ap_max[estimator] = std::max(ap_max[estimator], ap);
     rp_max[estimator] = std::max(rp_max[estimator], rp);
     if (estimator == "base_only") ap_base_only.push_back(ap);
+    for (const char* c : {"AP_a_deg", "AP_b_deg", "AP_c_deg"}) {
+      ap_abc_max[estimator] = std::max(ap_abc_max[estimator], std::abs(std::stod(iso[i][column(c)])));
+    }
+    for (const char* c : {"RP_a_deg", "RP_b_deg", "RP_c_deg"}) {
+      rp_abc_max[estimator] = std::max(rp_abc_max[estimator], std::stod(iso[i][column(c)]));
+    }
   }
   for (const auto& [e, ap] : ap_max) std::printf("%s: AP_P max %.3f mm, RP_l max %.3f mm\n", e.c_str(), ap, rp_max[e]);
   ASSERT_EQ(ap_base_only.size(), 21u);
@@ -107,6 +113,11 @@ TEST_F(Ur10Iso9283, ExampleStudyAgainstTheCommandedPoses) {
   EXPECT_NEAR(ap_max["geometry"], 0.455, 0.003);
   EXPECT_NEAR(ap_max["gravity_23"], 0.443, 0.003);
   for (const auto& [e, rp] : rp_max) EXPECT_NEAR(rp, 0.148, 0.001) << e;  // the arm's own, whatever the model
+  EXPECT_NEAR(ap_abc_max["base_only"], 0.283, 0.002);
+  EXPECT_NEAR(ap_abc_max["none"], 0.129, 0.002);
+  EXPECT_NEAR(ap_abc_max["geometry"], 0.068, 0.002);
+  EXPECT_NEAR(ap_abc_max["gravity_23"], 0.065, 0.002);
+  for (const auto& [e, rp] : rp_abc_max) EXPECT_NEAR(rp, 0.039, 0.001) << e;
 
   // The same AP from the data's own commanded poses: Goal (the T-Mac point in the robot's base frame)
   // registered onto the measured positions by the rigid motion that best fits the training rows.
