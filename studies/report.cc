@@ -157,7 +157,7 @@ void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std:
 void IsoTable(std::ostream& o, const ReportData& data, int variant, const std::string& validation) {
   const ResultTable& t = data.tables().iso9283;
   const std::vector<MethodPair> pairs = MethodPairs(data, variant, validation);
-  o << "ISO 9283 pose accuracy AP and repeatability RP at P1..P5 (the largest over the five poses; mean ± std over "
+  o << "ISO 9283 pose accuracy AP and repeatability RP at the poses P1, P2, ... (the largest over them; mean ± std over "
        "trials). AP_P: distance from the commanded position to the mean attained one; RP_l = mean distance to "
        "the barycentre + 3 S_l; orientation: largest of the a, b, c components.\n\n";
   Header(o, {"method", "AP_P (mm)", "RP_l (mm)", "AP orientation (deg)", "RP orientation (deg)"},
