@@ -21,6 +21,7 @@ inline const char* kUr10D = "Series_D/measurements_iso_cubes.csv";
 
 // True when the data are here; without them a test skips (fails under KINCAL_REQUIRE_DATA=1).
 inline bool HaveUr10Data() { return std::ifstream(Ur10Series(kUr10D)).good(); }
+// (tests/support/test_util.h's KINCAL_SKIP_WITHOUT_SHARED_DATA: the skip, or the failure.)
 #define KINCAL_UR10_DATA_OR_SKIP() \
   KINCAL_SKIP_WITHOUT_SHARED_DATA(::kincal::testing::HaveUr10Data(), "no ../shared/data/ur10_ipa2021")
 
