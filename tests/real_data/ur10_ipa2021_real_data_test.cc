@@ -129,6 +129,46 @@ INSTANTIATE_TEST_SUITE_P(
       return info.param.series + "_terms" + std::to_string(info.param.terms);
     });
 
+// `select: true` from the richest file (estimators/selection): the chosen candidate and its held-out error.
+struct SelectCase {
+  std::string series;
+  std::string chosen;
+  double rms_mm, max_mm;
+};
+
+class Ur10Select : public ::testing::TestWithParam<SelectCase> {};
+
+TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const SelectCase& c = GetParam();
+  const Dataset all = ReadDataset(TableDataset(c.series));
+  const Robot nominal = Ur10WithTerms(22);
+  Robot identified;
+  const EstimationReport report = Estimators()
+                                      .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
+                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  std::string chosen;
+  for (const auto& candidate : report.details.at("selection").at("candidates")) {
+    if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
+  }
+  const ErrorStats e = EvaluatePredictions(nominal, identified, all.Subset(Split::kTest)).position_stats;
+  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm\n", c.series.c_str(), chosen.c_str(),
+              e.rms * 1e3, e.max * 1e3);
+  EXPECT_EQ(chosen, c.chosen);
+  EXPECT_NEAR(e.rms * 1e3, c.rms_mm, std::max(0.002, 0.005 * c.rms_mm));
+  EXPECT_NEAR(e.max * 1e3, c.max_mm, std::max(0.01, 0.01 * c.max_mm));
+}
+
+// B -> C: cross-validation on the training rows (B, and C's 20 re-registering poses) cannot see how a
+// model carries over to campaign C; it picks harmonic terms that double geometry's held-out error there.
+INSTANTIATE_TEST_SUITE_P(Series, Ur10Select,
+                         ::testing::Values(SelectCase{"A", "+ gravity 2", 0.4213, 1.2087},
+                                           SelectCase{"B", "+ gravity 2", 0.4169, 1.9802},
+                                           SelectCase{"C", "+ harmonic 1", 0.4821, 1.5009},
+                                           SelectCase{"D", "geometry", 0.4014, 1.3025},
+                                           SelectCase{"BC", "+ harmonic 2", 0.8559, 5.8474}),
+                         [](const ::testing::TestParamInfo<SelectCase>& info) { return info.param.series; });
+
 // Full pose, series D, even rows fit: position and orientation both held out; the weight is reported.
 struct FullPose {
   ErrorStats position, orientation;
