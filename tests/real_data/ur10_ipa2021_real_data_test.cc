@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/estimator.h"
 #include "framework/dataset.h"
 #include "robot/prediction.h"
@@ -134,6 +135,7 @@ struct SelectCase {
   std::string series;
   std::string chosen;
   double rms_mm, max_mm;
+  double coverage;  // held-out 3-D errors within 3 sqrt(sd^2 + sigma_3d^2) (prediction_uncertainty.h)
 };
 
 class Ur10Select : public ::testing::TestWithParam<SelectCase> {};
@@ -151,10 +153,16 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   for (const auto& candidate : report.details.at("selection").at("candidates")) {
     if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
   }
-  const ErrorStats e = EvaluatePredictions(nominal, identified, all.Subset(Split::kTest)).position_stats;
-  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm\n", c.series.c_str(), chosen.c_str(),
-              e.rms * 1e3, e.max * 1e3);
+  const Dataset test = all.Subset(Split::kTest);
+  const PredictionErrors errors = EvaluatePredictions(nominal, identified, test);
+  const ErrorStats& e = errors.position_stats;
+  const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+  const double coverage = CheckUncertainty(errors.position, PredictionSd(identified, nominal, test, cov), cov).coverage;
+  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm, coverage %.4f\n", c.series.c_str(),
+              chosen.c_str(), e.rms * 1e3, e.max * 1e3, coverage);
   EXPECT_EQ(chosen, c.chosen);
+  EXPECT_NEAR(coverage, c.coverage, 0.002);
+  EXPECT_GE(coverage, 0.95);
   EXPECT_NEAR(e.rms * 1e3, c.rms_mm, std::max(0.002, 0.005 * c.rms_mm));
   EXPECT_NEAR(e.max * 1e3, c.max_mm, std::max(0.01, 0.01 * c.max_mm));
 }
@@ -162,11 +170,11 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
 // B -> C: cross-validation on the training rows (B, and C's 20 re-registering poses) cannot see how a
 // model carries over to campaign C; it picks harmonic terms that double geometry's held-out error there.
 INSTANTIATE_TEST_SUITE_P(Series, Ur10Select,
-                         ::testing::Values(SelectCase{"A", "+ gravity 2", 0.4213, 1.2087},
-                                           SelectCase{"B", "+ gravity 2", 0.4169, 1.9802},
-                                           SelectCase{"C", "+ harmonic 1", 0.4821, 1.5009},
-                                           SelectCase{"D", "geometry", 0.4014, 1.3025},
-                                           SelectCase{"BC", "+ harmonic 2", 0.8559, 5.8474}),
+                         ::testing::Values(SelectCase{"A", "+ gravity 2", 0.4213, 1.2087, 0.9995},
+                                           SelectCase{"B", "+ gravity 2", 0.4169, 1.9802, 0.999},
+                                           SelectCase{"C", "+ harmonic 1", 0.4821, 1.5009, 0.999},
+                                           SelectCase{"D", "geometry", 0.4014, 1.3025, 0.997},
+                                           SelectCase{"BC", "+ harmonic 2", 0.8559, 5.8474, 0.981}),
                          [](const ::testing::TestParamInfo<SelectCase>& info) { return info.param.series; });
 
 // Full pose, series D, even rows fit: position and orientation both held out; the weight is reported.
