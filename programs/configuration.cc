@@ -54,7 +54,9 @@ ConfigurationRules::ConfigurationRules(ConfigurationConvention convention, const
   if (convention == ConfigurationConvention::kNone) return;
   Check(controller);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
-  zero_side_ = ArmSides(controller, q)[1];
+  const Eigen::Vector2d zero = ArmSides(controller, q);
+  zero_front_ = zero[0];
+  zero_side_ = zero[1];
   q[1] = -90 * kDeg;
   q[2] = 90 * kDeg;
   home_side_ = ArmSides(controller, q)[1];
@@ -65,11 +67,11 @@ std::vector<int> ConfigurationRules::Of(const Eigen::VectorXd& q) const {
   const Eigen::Vector2d sides = ArmSides(*controller_, q);
   const bool negative5 = std::remainder(q[4], 2 * M_PI) < 0;
   if (convention_ == ConfigurationConvention::kAbb) {
-    const bool behind1 = sides[0] < 0;
+    const bool behind1 = (sides[0] < 0) != (zero_front_ < 0);
     const bool behind_lower = (sides[1] < 0) != (zero_side_ < 0);
     return {Quadrant(q[0]), Quadrant(q[3]), Quadrant(q[5]), 4 * behind1 + 2 * behind_lower + negative5};
   }
-  const int status = (sides[0] < 0 ? 1 : 0) + ((sides[1] < 0) == (home_side_ < 0) ? 2 : 0) + (negative5 ? 4 : 0);
+  const int status = ((sides[0] < 0) != (zero_front_ < 0) ? 1 : 0) + ((sides[1] < 0) == (home_side_ < 0) ? 2 : 0) + (negative5 ? 4 : 0);
   int turn = 0;
   for (int j = 0; j < 6; ++j) turn |= (q[j] < 0 ? 1 : 0) << j;
   return {status, turn};

@@ -6,7 +6,8 @@
 // cf1, cf4, cf6 are the quadrants of axes 1, 4 and 6, floor(angle / 90 deg) (0 for 0..90 deg, -1 for
 // -90..0 deg, ...). cfx, for serial six-axis arms, numbers the 8 arm and wrist configurations:
 //     cfx = 4 * (wrist centre behind axis 1) + 2 * (wrist centre behind the lower arm) + (axis 5 < 0)
-// "Behind axis 1": the wrist centre's x in axis 1's frame (turning with axis 1) is negative; "behind
+// "Behind axis 1": the wrist centre's x in axis 1's frame (turning with axis 1) is negative, i.e. on the
+// other side of the plane through axis 1 (across the arm) than at the zero position; "behind
 // the lower arm": the wrist centre is on the other side of the line through axes 2 and 3 than at the
 // zero position, where the arm stands with the wrist in front (cfx 0 at all-zero joints).
 // KUKA (KSS system-integrator manual, "Status and Turn"; read as the manual's tables and the robot-forum
@@ -52,7 +53,9 @@ class ConfigurationRules {
            Eigen::VectorXd* q) const;
   ConfigurationConvention convention_;
   const Robot* controller_;
-  double zero_side_ = 1, home_side_ = 1;  // the lower-arm criterion's sign at zero (ABB), at HOME (KUKA)
+  // The criteria's signs where the manufacturers define them: the wrist centre in front of axis 1 at the
+  // zero position (both); the lower-arm criterion at zero (ABB) and at HOME (KUKA).
+  double zero_front_ = 1, zero_side_ = 1, home_side_ = 1;
 };
 
 }  // namespace kincal
