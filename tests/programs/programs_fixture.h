@@ -56,7 +56,9 @@ inline std::string Fmt(const char* format, double v) {
 }
 
 // Every `joint_every`-th target is a joint target; the others are poses (T_base_tool of the robot).
-inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::VectorXd>& qs, int joint_every) {
+// T_base_frame: the work object the poses are written in.
+inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::VectorXd>& qs, int joint_every,
+                               const Eigen::Isometry3d& T_base_frame = Eigen::Isometry3d::Identity()) {
   const ConfigurationRules rules(ConfigurationConvention::kAbb, robot);
   std::string decl, body;
   for (size_t i = 0; i < qs.size(); ++i) {
@@ -69,7 +71,8 @@ inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::Vect
       body += "    MoveAbsJ j" + name + ", v100, fine, tool0;\n";
       continue;
     }
-    const Eigen::Isometry3d T = robot.model().base().inverse() * robot.model().ForwardKinematics(qs[i]);
+    const Eigen::Isometry3d T =
+        (robot.model().base() * T_base_frame).inverse() * robot.model().ForwardKinematics(qs[i]);
     const Eigen::Quaterniond quat(T.linear());
     const std::vector<int> c = rules.Of(qs[i]);
     std::string r = "[[" + Fmt("%.3f", T.translation().x() * 1e3) + "," + Fmt("%.3f", T.translation().y() * 1e3) +
