@@ -18,7 +18,8 @@ class CsvProgramFormat final : public ProgramFormat {
   std::vector<ProgramTarget> Read(const std::string& t, const std::string& path) const override {
     std::vector<ProgramTarget> out;
     bool header = false;
-    for (size_t begin = 0; begin < t.size();) {
+    int line = 1;
+    for (size_t begin = 0; begin < t.size(); ++line) {
       size_t end = t.find('\n', begin);
       if (end == std::string::npos) end = t.size();
       size_t stop = end;
@@ -29,7 +30,7 @@ class CsvProgramFormat final : public ProgramFormat {
           Header(t, path, begin, stop);
           header = true;
         } else {
-          out.push_back(Row(t, path, begin, stop));
+          out.push_back(Row(t, path, begin, stop, line));
         }
       }
       begin = end + 1;
@@ -108,14 +109,15 @@ class CsvProgramFormat final : public ProgramFormat {
     columns_ = static_cast<int>(cells.size());
   }
 
-  ProgramTarget Row(const std::string& t, const std::string& path, size_t begin, size_t end) const {
+  ProgramTarget Row(const std::string& t, const std::string& path, size_t begin, size_t end, int line) const {
     const auto cells = Cells(t, begin, end);
     if (static_cast<int>(cells.size()) != columns_) {
       ThrowAt(path, t, begin, "expected " + std::to_string(columns_) + " cells, found " + std::to_string(cells.size()));
     }
     ProgramTarget target;
     target.kind = ProgramTarget::Kind::kPose;
-    LineAndColumn(t, begin, &target.line, &target.column);
+    target.line = line;
+    target.column = 1;
     const auto number = [&](int c) {
       NumberSpan s;
       size_t stop = 0;

@@ -46,10 +46,10 @@ class KrlFormat final : public ProgramFormat {
   std::vector<ProgramTarget> Read(const std::string& t, const std::string& path) const override {
     std::vector<ProgramTarget> out;
     size_t line_start = 0;
-    while (line_start < t.size()) {
+    for (int line = 1; line_start < t.size(); ++line) {
       size_t line_end = t.find('\n', line_start);
       if (line_end == std::string::npos) line_end = t.size();
-      ReadLine(t, path, line_start, line_end, &out);
+      ReadLine(t, path, line_start, line_end, line, &out);
       line_start = line_end + 1;
     }
     return out;
@@ -73,7 +73,7 @@ class KrlFormat final : public ProgramFormat {
   }
 
  private:
-  static void ReadLine(const std::string& t, const std::string& path, size_t begin, size_t end,
+  static void ReadLine(const std::string& t, const std::string& path, size_t begin, size_t end, int line,
                        std::vector<ProgramTarget>* out) {
     const size_t comment = t.find(';', begin);
     if (comment != std::string::npos && comment < end) end = comment;
@@ -139,7 +139,8 @@ class KrlFormat final : public ProgramFormat {
       if (!parts.emplace(name, s).second) ThrowAt(path, t, name_begin, "component " + name + " given twice");
     }
     ProgramTarget target;
-    LineAndColumn(t, begin, &target.line, &target.column);
+    target.line = line;
+    target.column = 1;
     const auto need = [&](const std::string& name) {
       const auto it = parts.find(name);
       if (it == parts.end()) ThrowAt(path, t, open, type + " without " + name + ": kincal filters complete targets only");

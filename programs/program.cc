@@ -2,6 +2,7 @@
 
 #include "framework/error.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -45,6 +46,19 @@ void LineAndColumn(const std::string& text, size_t offset, int* line, int* colum
   }
   *line = l;
   *column = static_cast<int>(offset - line_start) + 1;
+}
+
+LineIndex::LineIndex(const std::string& text) {
+  starts_.push_back(0);
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') starts_.push_back(i + 1);
+  }
+}
+
+void LineIndex::Locate(size_t offset, int* line, int* column) const {
+  const auto it = std::upper_bound(starts_.begin(), starts_.end(), offset) - 1;
+  *line = static_cast<int>(it - starts_.begin()) + 1;
+  *column = static_cast<int>(offset - *it) + 1;
 }
 
 bool ReadNumberAt(const std::string& text, size_t pos, double* value, size_t* end) {

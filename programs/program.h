@@ -67,6 +67,15 @@ std::string ProgramFormatFromExtension(const std::string& path);
 
 // Text positions: 1-based line and column of byte `offset`.
 void LineAndColumn(const std::string& text, size_t offset, int* line, int* column);
+// The same for many offsets of one text: its line starts, found once (readers locate every target).
+class LineIndex {
+ public:
+  explicit LineIndex(const std::string& text);
+  void Locate(size_t offset, int* line, int* column) const;
+
+ private:
+  std::vector<size_t> starts_;
+};
 // Reads a number at text[pos] (sign, digits, '.', exponent); false when none. *end: the byte after it.
 bool ReadNumberAt(const std::string& text, size_t pos, double* value, size_t* end);
 // Shortest text that reads back to `value` ("500", "-0.25", "1.2345678901234567e-05").

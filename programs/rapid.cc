@@ -134,6 +134,7 @@ class RapidFormat final : public ProgramFormat {
 
   std::vector<ProgramTarget> Read(const std::string& t, const std::string& path) const override {
     const RapidScanner scan(t, path);
+    const LineIndex lines(t);
     std::vector<ProgramTarget> out;
     std::string declared;  // "robtarget" / "jointtarget" while inside such a declaration
     for (size_t i = 0; i < t.size();) {
@@ -155,7 +156,7 @@ class RapidFormat final : public ProgramFormat {
       } else if (c == '[') {
         const Node node = scan.Aggregate(&i);
         const size_t before = out.size();
-        Collect(node, t, path, &out);  // an array declaration holds several
+        Collect(node, t, path, lines, &out);  // an array declaration holds several
         if (!declared.empty() && out.size() == before) {
           ThrowAt(path, t, node.begin, "a " + declared + " must be " +
                                            (declared == "robtarget" ? "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[6 external axes]]"
@@ -188,21 +189,23 @@ class RapidFormat final : public ProgramFormat {
   }
 
  private:
-  static void Collect(const Node& node, const std::string& t, const std::string& path, std::vector<ProgramTarget>* out) {
+  static void Collect(const Node& node, const std::string& t, const std::string& path, const LineIndex& lines,
+                      std::vector<ProgramTarget>* out) {
     const std::vector<size_t> shape = Shape(node);
     if (shape == std::vector<size_t>{3, 4, 4, 6}) {
-      out->push_back(Robtarget(node, t, path));
+      out->push_back(Robtarget(node, t, path, lines));
     } else if (shape == std::vector<size_t>{6, 6}) {
-      out->push_back(Jointtarget(node, t));
+      out->push_back(Jointtarget(node, lines));
     } else if (node.list) {
-      for (const Node& item : node.items) Collect(item, t, path, out);
+      for (const Node& item : node.items) Collect(item, t, path, lines, out);
     }
   }
 
-  static ProgramTarget Robtarget(const Node& node, const std::string& t, const std::string& path) {
+  static ProgramTarget Robtarget(const Node& node, const std::string& t, const std::string& path,
+                                 const LineIndex& lines) {
     ProgramTarget target;
     target.kind = ProgramTarget::Kind::kPose;
-    LineAndColumn(t, node.begin, &target.line, &target.column);
+    lines.Locate(node.begin, &target.line, &target.column);
     Eigen::Vector4d wxyz;
     for (int k = 0; k < 3; ++k) target.numbers.push_back(node.items[0].items[k].number);
     for (int k = 0; k < 4; ++k) target.numbers.push_back(node.items[1].items[k].number);
@@ -221,10 +224,10 @@ class RapidFormat final : public ProgramFormat {
     return target;
   }
 
-  static ProgramTarget Jointtarget(const Node& node, const std::string& t) {
+  static ProgramTarget Jointtarget(const Node& node, const LineIndex& lines) {
     ProgramTarget target;
     target.kind = ProgramTarget::Kind::kJoints;
-    LineAndColumn(t, node.begin, &target.line, &target.column);
+    lines.Locate(node.begin, &target.line, &target.column);
     target.q.resize(6);
     for (int k = 0; k < 6; ++k) {
       target.numbers.push_back(node.items[0].items[k].number);

@@ -30,6 +30,7 @@ class UrScriptFormat final : public ProgramFormat {
 
   std::vector<ProgramTarget> Read(const std::string& t, const std::string& path) const override {
     std::vector<ProgramTarget> out;
+    const LineIndex lines(t);
     for (size_t i = 0; i < t.size(); ++i) {
       if (t[i] == '#') {
         while (i < t.size() && t[i] != '\n') ++i;
@@ -75,7 +76,7 @@ class UrScriptFormat final : public ProgramFormat {
         continue;  // a list of another length is not a joint target
       }
       ProgramTarget target;
-      LineAndColumn(t, start, &target.line, &target.column);
+      lines.Locate(start, &target.line, &target.column);
       target.numbers = numbers;
       if (pose) {
         target.kind = ProgramTarget::Kind::kPose;
