@@ -7,7 +7,8 @@
 // leaves it.
 //
 // The frame contract (every compensator, the nominal inverse kinematics they seed from, `kincal
-// compensate`, `kincal filter` and the studies follow it):
+// compensate` and `kincal filter` follow it; the studies' compensators too, while their validation seeds
+// are still the nominal file's own inverse kinematics, studies/validation.cc):
 //  - Targets are poses of the tool in the measurement frame (the tracker's), T_meas_tool. A caller whose
 //    targets are in the robot's base frame (a robot program, `--frame base`) moves them by the
 //    controller's base: T_meas_tool = T_meas_base * T_base_tool (TargetFromBaseFrame below).
