@@ -5,6 +5,14 @@
 //   odd rows worse than geometry (issue figures: geometry 0.401 mm, + gravity 2, 3 1.83 mm, full 1.42 mm),
 //   so selection must not pick one: held-out RMS <= 1.05 x the best of geometry, + gravity 2..5 and the
 //   full file, never above geometry, max <= 1.5 x geometry's.
+//   ur10_ipa2021 B -> C (campaign B fits, C's first 20 poses re-register the base as session 2 and train
+//   too, C's other rows scored): the model must carry to another campaign; the same criteria against the
+//   best of geometry and + gravity 2 .. + gravity 2..5 (issue: 0.628, 0.601, 1.00 mm). Disabled: selection
+//   does not meet them yet. Measured: it picks "+ harmonic 2" (gravity 2-5, harmonic 1, 2), 0.632 / 2.31 mm
+//   held out, against geometry 0.629 / 1.89 and + gravity 2 0.550: cross-validation within campaign B
+//   (and C's 20 registering rows) rates the harmonic terms best, and neither K = 2 or 3 nor a forward
+//   stepwise one-se rule fixes it without losing series A or irb120_faro. Run it with
+//   --gtest_also_run_disabled_tests.
 //   irb120_faro reflector 1 (irb120_joint_errors.yaml, gravity 2-5 and approach 1-6, with harmonic 1 and 2
 //   and backlash on every joint: the richest file, 0.238 mm): richer is right here; the selected model
 //   within 3 % of the full file's held-out RMS.
@@ -60,6 +68,36 @@ TEST(ModelSelectionRealData, Ur10SeriesDKeepsGeometry) {
   double best = geometry.rms;
   for (int groups : {1, 2, 3, 4, 22}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
   std::printf("series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+              "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
+              best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.05 * best);
+  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
+  EXPECT_LE(selected.max, 1.5 * geometry.max);
+  EXPECT_GE(selected.coverage, 0.95);
+}
+
+TEST(ModelSelectionRealData, DISABLED_Ur10CampaignBToC) {
+  Dataset b, c;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(
+      LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_B/measurements_joint_configurations.csv"), &b) &&
+          LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_C/measurements_random_poses.csv"), &c),
+      "no ../shared/data/ur10_ipa2021");
+  constexpr int kRegister = 20;
+  Dataset all = b;
+  std::vector<int> train_rows, test_rows;
+  for (size_t i = 0; i < b.rows.size(); ++i) train_rows.push_back(static_cast<int>(i));
+  for (size_t i = 0; i < c.rows.size(); ++i) {
+    Measurement m = c.rows[i];
+    m.session = 1;
+    (static_cast<int>(i) < kRegister ? train_rows : test_rows).push_back(static_cast<int>(all.rows.size()));
+    all.rows.push_back(m);
+  }
+  const Dataset train = all.SelectRows(train_rows), test = all.SelectRows(test_rows);
+  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
+  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
+  double best = geometry.rms;
+  for (int groups : {1, 2, 3, 4}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
+  std::printf("B -> C: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
               "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
               best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
   EXPECT_LE(selected.rms, 1.05 * best);
