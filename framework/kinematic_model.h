@@ -67,6 +67,10 @@ class KinematicModel {
   const std::vector<bool>& FreeMask() const { return free_; }
   void SetFree(const std::string& name, bool free) { free_[ParameterIndex(name)] = free; }
   void SetFreeMask(const std::vector<bool>& mask);
+  // Why parameter `index` is redundant with the others at the model's current values (an estimator
+  // holds it at its value), or "" when it is not. Conventions whose parameters are independent by
+  // construction keep the default.
+  virtual std::string RedundantParameterReason(int index) const { (void)index; return ""; }
 
   Eigen::Isometry3d base() const;  // T_meas_base (frame 0 in the measurement frame)
   Eigen::Isometry3d tool() const;  // T_n_tool

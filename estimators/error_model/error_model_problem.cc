@@ -10,7 +10,6 @@
 #include "framework/error.h"
 #include "robot/prediction.h"
 #include "models/chain_model.h"
-#include "models/hayati_model.h"
 
 namespace kincal {
 namespace {
@@ -98,7 +97,29 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   coefficient_joints_ = start.joint_errors.CoefficientJoints();
   for (const auto& t : start.joint_errors.terms) gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
 
-  // Rows: actual angles at the start's ratios, marker and session slots, orientation.
+  const RowSummary summary = TabulateRows();
+  FindJointParameters();
+  ListCandidates();
+  std::map<std::string, std::string> reasons;  // the first reason given for a parameter is kept
+  HoldFixedByOptions(&reasons);
+  HoldByConstruction(summary, &reasons);
+  for (const auto& p : candidates_) {
+    const auto it = reasons.find(p.name);
+    if (it != reasons.end()) held_.push_back({p, it->second, false});
+  }
+  Build();
+  MeasureRegressors();
+
+  if (num_residuals_ <= num_parameters()) {
+    throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(num_rows()) + " rows give " +
+                                std::to_string(num_residuals_) + " residuals for " + std::to_string(num_parameters()) +
+                                " free parameters (add poses or fix parameters)");
+  }
+}
+
+ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
+  const Dataset& data = *data_;
+  const int n = start_.dof();
   std::set<std::string> marker_set;
   std::set<int> session_set;
   for (const Measurement& m : data.rows) {
@@ -107,65 +128,65 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   }
   marker_ids_.assign(marker_set.begin(), marker_set.end());
   session_ids_.assign(session_set.begin(), session_set.end());
-  for (const auto& id : marker_ids_) start.MarkerPosition(id);  // throws, naming the id
+  for (const auto& id : marker_ids_) start_.MarkerPosition(id);  // throws, naming the id
 
   const int rows = static_cast<int>(data.rows.size());
   auto per_row = std::make_shared<Rows>();
-  std::vector<double>& q_ref = per_row->q_ref;
-  std::vector<int>& row_marker = per_row->marker;
-  std::vector<int>& row_session = per_row->session;
-  std::vector<char>& row_orientation = per_row->orientation;
-  q_ref.resize(static_cast<size_t>(rows) * n);
-  row_marker.resize(rows);
-  row_session.resize(rows);
-  row_orientation.resize(rows);
-  bool any_session0 = false, all_marked = true, any_orientation = false;
-  const bool previous_used = start.joint_errors.uses_previous();
+  per_row->q_ref.resize(static_cast<size_t>(rows) * n);
+  per_row->marker.resize(rows);
+  per_row->session.resize(rows);
+  per_row->orientation.resize(rows);
+  const bool previous_used = start_.joint_errors.uses_previous();
   const std::vector<Dataset::Previous> previous = previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
   if (previous_used) {
     per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
     per_row->has_previous.assign(rows, 0);
   }
+  RowSummary summary;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
-    const Eigen::VectorXd q = DriveAngles(controller, start, m);
+    const Eigen::VectorXd q = DriveAngles(controller_, start_, m);
     if (previous_used) {
       if (const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i])) {
         const std::vector<int64_t>* enc = data.PreviousEncoders(previous[i]);
         Eigen::Map<Eigen::VectorXd>(&per_row->q_prev_ref[static_cast<size_t>(i) * n], n) =
-            DriveAngles(controller, start, *q_prev, enc ? *enc : std::vector<int64_t>{});
+            DriveAngles(controller_, start_, *q_prev, enc ? *enc : std::vector<int64_t>{});
         per_row->has_previous[i] = 1;
       }
     }
     if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
-    Eigen::Map<Eigen::VectorXd>(&q_ref[static_cast<size_t>(i) * n], n) = q;
-    row_marker[i] = m.marker.empty()
-                         ? -1
-                         : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
-    row_session[i] = m.session == 0
-                          ? -1
-                          : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
-    row_orientation[i] = m.orientation.has_value();
+    Eigen::Map<Eigen::VectorXd>(&per_row->q_ref[static_cast<size_t>(i) * n], n) = q;
+    per_row->marker[i] = m.marker.empty()
+                             ? -1
+                             : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
+    per_row->session[i] = m.session == 0
+                              ? -1
+                              : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
+    per_row->orientation[i] = m.orientation.has_value();
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
     }
-    any_session0 |= m.session == 0;
-    all_marked &= !m.marker.empty();
-    any_orientation |= m.orientation.has_value();
+    summary.any_session0 |= m.session == 0;
+    summary.all_marked &= !m.marker.empty();
+    summary.any_orientation |= m.orientation.has_value();
     num_residuals_ += m.orientation ? 6 : 3;
   }
   rows_ = std::move(per_row);
+  return summary;
+}
 
+void ErrorModelProblem::FindJointParameters() {
   // The parameter through which each joint variable enters (its derivative is the joint's column).
-  joint_parameter_.assign(n, -1);
-  if (const auto* chain = dynamic_cast<const ChainModel*>(&start.model())) {
+  joint_parameter_.assign(start_.dof(), -1);
+  if (const auto* chain = dynamic_cast<const ChainModel*>(&start_.model())) {
     for (const auto& op : chain->ops()) {
       if (op.joint >= 0) joint_parameter_[op.joint] = op.parameter;
     }
   }
+}
 
-  // Candidates, in canonical order.
-  const KinematicModel& model = start.model();
+void ErrorModelProblem::ListCandidates() {
+  const KinematicModel& model = start_.model();
   const Eigen::VectorXd& values = model.Parameters();
   for (int j = 0; j < model.num_parameters(); ++j) {
     const ParameterInfo& info = model.parameter_info()[j];
@@ -180,8 +201,8 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     p.start = values[j];
     candidates_.push_back(p);
   }
-  if (start.drives) {
-    for (int i = 0; i < n; ++i) {
+  if (start_.drives) {
+    for (int i = 0; i < start_.dof(); ++i) {
       ErrorModelParameter p;
       p.name = "ratio_" + std::to_string(i + 1);
       p.group = Group::kRatio;
@@ -191,27 +212,26 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       candidates_.push_back(p);
     }
   }
-  {
-    const std::vector<std::string> names = start.joint_errors.CoefficientNames();
-    const std::vector<int> joints = start.joint_errors.CoefficientJoints();
-    const std::vector<JointErrorTerm::CoefficientKind> kinds = start.joint_errors.CoefficientKinds();
-    const Eigen::VectorXd c = start.joint_errors.Coefficients();
-    for (int k = 0; k < static_cast<int>(names.size()); ++k) {
-      ErrorModelParameter p;
-      p.name = names[k];
-      p.group = Group::kJointError;
-      p.kind = Kind::kCoefficient;
-      p.joint = joints[k];
-      p.coefficient = k;
-      p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
-               : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
-                                                                               : "rad";
-      p.start = c[k];
-      candidates_.push_back(p);
-    }
+  const JointErrors& joint_errors = start_.joint_errors;
+  const std::vector<std::string> names = joint_errors.CoefficientNames();
+  const std::vector<int> joints = joint_errors.CoefficientJoints();
+  const std::vector<JointErrorTerm::CoefficientKind> kinds = joint_errors.CoefficientKinds();
+  const Eigen::VectorXd c = joint_errors.Coefficients();
+  for (int k = 0; k < static_cast<int>(names.size()); ++k) {
+    ErrorModelParameter p;
+    p.name = names[k];
+    p.group = Group::kJointError;
+    p.kind = Kind::kCoefficient;
+    p.joint = joints[k];
+    p.coefficient = k;
+    p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
+             : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
+                                                                             : "rad";
+    p.start = c[k];
+    candidates_.push_back(p);
   }
   for (const auto& id : marker_ids_) {
-    const Eigen::Vector3d position = start.MarkerPosition(id);
+    const Eigen::Vector3d position = start_.MarkerPosition(id);
     for (int a = 0; a < 3; ++a) {
       ErrorModelParameter p;
       p.name = "marker_" + id + "_" + kAxisNames[a];
@@ -224,7 +244,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     }
   }
   for (int k : session_ids_) {
-    const Vector6d pose = XyzRpy(start.SessionBase(k));
+    const Vector6d pose = XyzRpy(start_.SessionBase(k));
     for (int a = 0; a < 6; ++a) {
       ErrorModelParameter p;
       p.name = "session_" + std::to_string(k) + "_" + kAxisNames[a];
@@ -236,11 +256,10 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       candidates_.push_back(p);
     }
   }
+}
 
-  // Held by the options or by construction. The first reason given for a parameter is kept.
-  std::map<std::string, std::string> reasons;
-  const auto hold = [&](const ErrorModelParameter& p, const std::string& reason) { reasons.emplace(p.name, reason); };
-  for (const std::string& name : options.fixed) {
+void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* reasons) const {
+  for (const std::string& name : options_.fixed) {
     bool matched = false;
     for (const auto& p : candidates_) {
       const bool group_match =
@@ -250,7 +269,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
           (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1)) ||
           (p.group == Group::kJointError && (name == "joint_errors" || p.name.rfind(name + "_", 0) == 0));
       if (group_match || p.name == name) {
-        hold(p, "fixed by the options");
+        reasons->emplace(p.name, "fixed by the options");
         matched = true;
       }
     }
@@ -262,55 +281,41 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
                                   "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " + list + ")");
     }
   }
-  ratios_active_ = start.drives && options.identify_ratios && (data.HasEncoders() || controller.drives);
+}
+
+void ErrorModelProblem::HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons) {
+  const auto hold = [&](const ErrorModelParameter& p, const std::string& reason) { reasons->emplace(p.name, reason); };
+  const KinematicModel& model = start_.model();
+  ratios_active_ = start_.drives && options_.identify_ratios && (data_->HasEncoders() || controller_.drives);
   for (const auto& p : candidates_) {
-    if ((p.group == Group::kJoint || p.group == Group::kTool || p.group == Group::kBase) &&
-        !model.FreeMask()[p.model_index]) {
-      hold(p, "fixed in the robot's free mask");
-    }
+    const bool model_parameter = p.group == Group::kJoint || p.group == Group::kTool || p.group == Group::kBase;
+    if (model_parameter && !model.FreeMask()[p.model_index]) hold(p, "fixed in the robot's free mask");
     if (p.group == Group::kRatio && !ratios_active_) {
-      hold(p, !options.identify_ratios ? "identify_ratios is off"
-                                       : "no encoder counts and no controller drives: the ratios have no effect");
+      hold(p, !options_.identify_ratios ? "identify_ratios is off"
+                                        : "no encoder counts and no controller drives: the ratios have no effect");
     }
-    if (p.group == Group::kMarker && !options.identify_markers) hold(p, "identify_markers is off");
-    if (p.group == Group::kSession && !options.identify_session_bases) hold(p, "identify_session_bases is off");
-    if (p.group == Group::kBase && !any_session0) hold(p, "no row in session 0: the model's base has no effect");
-    if (p.group == Group::kJoint && model.convention() == "hayati") {
-      const ParameterInfo& info = model.parameter_info()[p.model_index];
-      if (info.key == "beta" && HayatiBetaIsRedundant(model, info.joint)) {
-        const std::string i = std::to_string(info.joint), before = std::to_string(info.joint - 1);
-        hold(p, info.joint == 1 ? "Hayati's beta where axis 1 is not parallel to the base's z: redundant with the base"
-                                : "Hayati's beta where axes " + before + " and " + i + " are not parallel: redundant "
-                                  "with d_" + before + " and theta_" + before);
-      }
+    if (p.group == Group::kMarker && !options_.identify_markers) hold(p, "identify_markers is off");
+    if (p.group == Group::kSession && !options_.identify_session_bases) hold(p, "identify_session_bases is off");
+    if (p.group == Group::kBase && !summary.any_session0) hold(p, "no row in session 0: the model's base has no effect");
+    if (model_parameter) {
+      const std::string redundant = model.RedundantParameterReason(p.model_index);
+      if (!redundant.empty()) hold(p, redundant);
     }
   }
   bool markers_free = true;
   for (const auto& p : candidates_) {
-    if (p.group == Group::kMarker && reasons.count(p.name)) markers_free = false;
+    if (p.group == Group::kMarker && reasons->count(p.name)) markers_free = false;
   }
   const bool no_marker = marker_ids_.empty();
   for (const auto& p : candidates_) {
     if (p.group != Group::kTool) continue;
     const bool translation = p.kind == Kind::kLength;
-    if (translation && all_marked && markers_free) {
+    if (translation && summary.all_marked && markers_free) {
       hold(p, "redundant with the marker offsets (every row names a marker)");
-    } else if (!translation && !any_orientation && (no_marker || markers_free)) {
+    } else if (!translation && !summary.any_orientation && (no_marker || markers_free)) {
       hold(p, no_marker ? "no effect on position measurements of the tool origin"
                         : "redundant with the marker offsets (no orientation measured)");
     }
-  }
-  for (const auto& p : candidates_) {
-    const auto it = reasons.find(p.name);
-    if (it != reasons.end()) held_.push_back({p, it->second, false});
-  }
-  Build();
-  MeasureRegressors();
-
-  if (num_residuals_ <= num_parameters()) {
-    throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(rows) + " rows give " +
-                                std::to_string(num_residuals_) + " residuals for " + std::to_string(num_parameters()) +
-                                " free parameters (add poses or fix parameters)");
   }
 }
 

@@ -39,6 +39,7 @@
 // The problem keeps a pointer to the dataset: the dataset must outlive it. It copies the robots.
 // Evaluation is const and thread-compatible: give every thread its own Workspace.
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -200,6 +201,18 @@ class ErrorModelProblem {
   bool has_ratios() const { return ratios_active_; }
 
  private:
+  // Construction, in order: per-row tables, the joint variables' parameters, every candidate, then the
+  // candidates held by the options and by construction (reasons keyed by name, first reason kept).
+  struct RowSummary {
+    bool any_session0 = false;     // a row in session 0 (the model's base has an effect)
+    bool all_marked = true;        // every row names a marker
+    bool any_orientation = false;  // a row measures the tool's orientation
+  };
+  RowSummary TabulateRows();
+  void FindJointParameters();
+  void ListCandidates();
+  void HoldFixedByOptions(std::map<std::string, std::string>* reasons) const;
+  void HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons);
   // Orders the candidates not held into x, blocks and column maps.
   void Build();
   void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
