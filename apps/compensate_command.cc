@@ -18,6 +18,7 @@
 #include "framework/atomic_file.h"
 #include "compensators/compensation_targets.h"
 #include "compensators/compensator.h"
+#include "compensators/program.h"
 #include "framework/dataset.h"
 #include "framework/error.h"
 #include "robot/robot_file.h"
@@ -53,19 +54,13 @@ void AddCompensateCommand(CLI::App& app) {
     const auto t_read = Clock::now();
     NamingFile(a->identified, [&] { compensator->Prepare(nominal, identified); });
     const auto t_prepared = Clock::now();
-    std::vector<CompensationResult> results;
-    results.reserve(targets.size());
     // The targets are a program: each is reached from the one before (its commands), unless the file
     // gives the pose the arm comes from (from_q columns). Joint errors of the move depend on it.
-    for (size_t i = 0; i < targets.size(); ++i) {
-      CompensationTarget target = targets[i];
-      if (data.rows[i].from_q) {
-        target.previous_command = *data.rows[i].from_q;
-      } else if (i > 0) {
-        target.previous_command = results.back().q_command;
-      }
-      results.push_back(compensator->Compensate(target));
+    std::vector<CompensationTarget> program = targets;
+    for (size_t i = 0; i < program.size(); ++i) {
+      if (data.rows[i].from_q) program[i].previous_command = *data.rows[i].from_q;
     }
+    const std::vector<CompensationResult> results = CompensateProgram(*compensator, program);
     const auto t_solved = Clock::now();
 
     const int n = nominal.dof();

@@ -11,6 +11,7 @@
 
 #include "framework/error.h"
 #include "compensators/compensator.h"
+#include "compensators/program.h"
 #include "estimators/estimator.h"
 #include "robot/prediction.h"
 #include "robot/simulator.h"
@@ -141,8 +142,9 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
   {
     py::gil_scoped_release release;
     compensator->Prepare(nominal, identified);
+    std::vector<CompensationTarget> program(n);
     for (long i = 0; i < n; ++i) {
-      CompensationTarget t;
+      CompensationTarget& t = program[i];
       if (poses) {
         t.T_meas_tool.matrix() = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(targets.row(i).eval().data());
       } else {
@@ -152,13 +154,9 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
       if (seeds) t.seed = seeds->row(i).transpose();
       // A program, as `kincal compensate` runs it: each target from the commands of the one before,
       // unless from_q gives the pose the arm comes from.
-      if (from_q && from_q->row(i).allFinite()) {
-        t.previous_command = from_q->row(i).transpose();
-      } else if (i > 0) {
-        t.previous_command = results.back().q_command;
-      }
-      results.push_back(compensator->Compensate(t));
+      if (from_q && from_q->row(i).allFinite()) t.previous_command = from_q->row(i).transpose();
     }
+    results = CompensateProgram(*compensator, program);
   }
   Eigen::MatrixXd q_command(n, dof), q_actual(n, dof);
   Eigen::VectorXd position_error(n), orientation_error(n);

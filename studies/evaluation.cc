@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "compensators/program.h"
 #include "framework/error.h"
 #include "framework/math.h"
 #include "framework/pose_tables.h"
@@ -120,7 +121,7 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
     }
     rows.push_back(row);
   }
-  // Markers and joint-level error coefficients are identified like the geometry (issue 11): a study that
+  // Markers and joint-level error coefficients are identified like the geometry: a study that
   // compares "geometry only" against "with joint errors" shows them, in mm and deg like the rest
   // (approach terms in s: deg per deg/s).
   const auto nominal_value = [](const auto& map, const std::string& key, auto get) {
@@ -222,7 +223,7 @@ std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& 
     h.error = e.position[i];
     const Eigen::VectorXd* from = test.PreviousQ(previous[i]);
     if (from && v.size() == m.q.size()) {
-      // The move's duration when all joints arrive together at the slowest joint's pace (issue 11).
+      // The move's duration when all joints arrive together at the slowest joint's pace.
       const Eigen::ArrayXd dq = (m.q - *from).array().abs();
       const double duration = (dq / v.array()).maxCoeff();
       if (duration > 0.0) h.approach_speed = dq.maxCoeff() / duration;
@@ -500,24 +501,25 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
         std::vector<CompensationReport> reports;
         double seconds = 0.0;
         const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
-        Eigen::VectorXd previous_command;  // the program's previous target, in order
-        for (size_t t = 0; t < d.targets[v].size(); ++t) {
+        // The validation targets are a program, compensated in order (each from the previous commands).
+        std::vector<CompensationTarget> goals(d.targets[v].size());
+        for (size_t t = 0; t < goals.size(); ++t) {
+          goals[t].T_meas_tool = d.targets[v][t].T_meas_tool;
+          goals[t].has_orientation = d.orientation[v];
+          goals[t].seed = d.targets[v][t].q_nominal;
+        }
+        std::vector<CompensationResult> results = CompensateProgram(*compensator, goals);
+        for (size_t t = 0; t < goals.size(); ++t) {
           const ValidationTarget& target = d.targets[v][t];
-          CompensationTarget goal;
-          goal.T_meas_tool = target.T_meas_tool;
-          goal.has_orientation = d.orientation[v];
-          goal.seed = target.q_nominal;
-          goal.previous_command = previous_command;
-          CompensationResult r = compensator->Compensate(goal);
+          const CompensationTarget& goal = goals[t];
+          CompensationResult& r = results[t];
           if (r.report.non_finite) {
             throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
                                      spec.name);
           }
           seconds += r.report.wall_time_seconds;
           if (r.report.status == CompensationStatus::kConverged) ++row.converged;
-          const Eigen::VectorXd q_truth =
-              TruthAngles(d.nominal, d.truth, r, previous_command.size() ? &previous_command : nullptr);
-          previous_command = r.q_command;
+          const Eigen::VectorXd q_truth = TruthAngles(d.nominal, d.truth, r, t > 0 ? &results[t - 1].q_command : nullptr);
           const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
           position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
           if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
