@@ -11,6 +11,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "framework/options.h"
+
 namespace kincal {
 
 template <typename Product>
@@ -57,31 +59,6 @@ class Registry {
 
  private:
   std::map<std::string, Entry> entries_;
-};
-
-// Helpers for Options structs read from YAML: unknown keys are errors naming the key and its place.
-class OptionsReader {
- public:
-  OptionsReader(const YAML::Node& node, std::string what);
-  // Each getter leaves *value unchanged when the key is absent.
-  void Get(const std::string& key, double* value);
-  void Get(const std::string& key, int* value);
-  void Get(const std::string& key, bool* value);
-  void Get(const std::string& key, std::string* value);
-  void Get(const std::string& key, std::vector<std::string>* value);
-  // A length with an optional unit ("10um", "0.01mm"; plain numbers are metres).
-  void GetLength(const std::string& key, double* value);
-  // An angle in degrees in the file, radians in *value.
-  void GetAngleDeg(const std::string& key, double* value);
-  const YAML::Node& node() const { return node_; }
-  // Throws for any key not read by a Get call. Call last.
-  void Finish() const;
-  [[noreturn]] void Fail(const std::string& key, const std::string& what) const;
-
- private:
-  YAML::Node node_;
-  std::string what_;
-  std::vector<std::string> read_;
 };
 
 }  // namespace kincal
