@@ -36,6 +36,8 @@ struct CeresOptions : ErrorModelEstimatorOptions {
   int num_threads = 1;                 // threads evaluating residual blocks
   bool verbose = false;                // Ceres' per-iteration log on stdout
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<CeresOptions>& Table();
   bool IsValid(std::string* why) const;
   static CeresOptions FromYaml(const YAML::Node& node);
 };

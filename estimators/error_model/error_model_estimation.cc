@@ -4,14 +4,15 @@
 
 namespace kincal {
 
-bool ErrorModelEstimatorOptions::IsValid(std::string* why) const {
-  return error_model.IsValid(why) && weighting.IsValid(why);
+const OptionTable<ErrorModelEstimatorOptions>& ErrorModelEstimatorOptions::Table() {
+  using O = ErrorModelEstimatorOptions;
+  static const OptionTable<O> table = OptionTable<O>("error model estimator")
+                                          .Include(ErrorModelOptions::Table(), &O::error_model)
+                                          .Include(RowWeightingOptions::Table(), &O::weighting);
+  return table;
 }
 
-void ErrorModelEstimatorOptions::ReadShared(OptionsReader* reader) {
-  error_model.Read(reader);
-  weighting.Read(reader);
-}
+bool ErrorModelEstimatorOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,

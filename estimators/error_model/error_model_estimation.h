@@ -29,9 +29,9 @@ struct ErrorModelEstimatorOptions {
   ErrorModelOptions error_model;   // error_model_problem.h
   RowWeightingOptions weighting;   // robust loss and per-row weights (keys loss, loss_scale, weights)
 
+  // The keys of both (see above); each estimator's table includes this one before its own keys.
+  static const OptionTable<ErrorModelEstimatorOptions>& Table();
   bool IsValid(std::string* why) const;
-  // The keys of both (see above). Estimators read their own keys after these, then Finish().
-  void ReadShared(OptionsReader* reader);
 };
 
 struct MinimizerRun {

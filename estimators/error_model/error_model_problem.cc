@@ -42,40 +42,39 @@ int GroupOrder(Group g) {
 
 }  // namespace
 
-bool ErrorModelOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!(orientation_length > 0.0) || !std::isfinite(orientation_length)) return fail("orientation_length must be positive");
-  if (!(identifiability_tolerance > 0.0 && identifiability_tolerance < 1.0)) {
-    return fail("identifiability_tolerance must lie in (0, 1)");
-  }
-  const double b[] = {bounds.length,      bounds.angle,      bounds.ratio,      bounds.marker,
-                      bounds.base_length, bounds.base_angle, bounds.joint_error};
-  for (double v : b) {
-    if (!(v > 0.0) || !std::isfinite(v)) return fail("bounds must be positive and finite");
-  }
-  if (!(bounds.ratio < 1.0)) return fail("bound_ratio must be below 1");
-  return true;
+const OptionTable<ErrorModelBounds>& ErrorModelBounds::Table() {
+  using B = ErrorModelBounds;
+  static const OptionTable<B> table =
+      OptionTable<B>("error model bounds")
+          .Add("bound_length", OptionUnit::kLength, &B::length, "bound on a_i, d_i (bounded solvers)", Positive())
+          .Add("bound_angle_deg", OptionUnit::kAngleDeg, &B::angle, "bound on alpha_i, theta_i, tool angles", Positive())
+          .Add("bound_ratio", &B::ratio, "relative bound on the ratio scales", Between(0, 1, true, true))
+          .Add("bound_marker", OptionUnit::kLength, &B::marker, "bound on marker offsets and tool_x/y/z", Positive())
+          .Add("bound_base_length", OptionUnit::kLength, &B::base_length, "bound on base translations", Positive())
+          .Add("bound_base_angle_deg", OptionUnit::kAngleDeg, &B::base_angle, "bound on base rotations", Positive())
+          .Add("bound_joint_error_deg", OptionUnit::kAngleDeg, &B::joint_error,
+               "bound on a joint error coefficient, as the RMS joint offset it makes", Positive());
+  return table;
 }
 
-void ErrorModelOptions::Read(OptionsReader* reader) {
-  reader->Get("fixed", &fixed);
-  reader->Get("identify_ratios", &identify_ratios);
-  reader->Get("identify_markers", &identify_markers);
-  reader->Get("identify_session_bases", &identify_session_bases);
-  reader->Get("initialize_bases", &initialize_bases);
-  reader->GetLength("orientation_length", &orientation_length);
-  reader->Get("identifiability_tolerance", &identifiability_tolerance);
-  reader->GetLength("bound_length", &bounds.length);
-  reader->GetAngleDeg("bound_angle_deg", &bounds.angle);
-  reader->Get("bound_ratio", &bounds.ratio);
-  reader->GetLength("bound_marker", &bounds.marker);
-  reader->GetLength("bound_base_length", &bounds.base_length);
-  reader->GetAngleDeg("bound_base_angle_deg", &bounds.base_angle);
-  reader->GetAngleDeg("bound_joint_error_deg", &bounds.joint_error);
+const OptionTable<ErrorModelOptions>& ErrorModelOptions::Table() {
+  using O = ErrorModelOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("error model")
+          .Add("fixed", &O::fixed, "parameter names or groups held at their start value")
+          .Add("identify_ratios", &O::identify_ratios, "identify the reduction ratios (robots with drives)")
+          .Add("identify_markers", &O::identify_markers, "identify marker offsets (datasets with a marker column)")
+          .Add("identify_session_bases", &O::identify_session_bases, "identify each session's base")
+          .Add("initialize_bases", &O::initialize_bases, "place bases, tool and markers in closed form first")
+          .Add("orientation_length", OptionUnit::kLength, &O::orientation_length,
+               "weight of orientation against position, per rad", Positive())
+          .Add("identifiability_tolerance", &O::identifiability_tolerance,
+               "sine below which a Jacobian column counts as dependent", Between(0, 1, true, true))
+          .Include(ErrorModelBounds::Table(), &O::bounds);
+  return table;
 }
+
+bool ErrorModelOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 ErrorModelProblem::~ErrorModelProblem() = default;
 ErrorModelProblem::ErrorModelProblem(const ErrorModelProblem&) = default;

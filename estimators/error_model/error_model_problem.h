@@ -1,5 +1,5 @@
 #pragma once
-// ErrorModelProblem: the error model that every least-squares-type estimator minimises (issue 4):
+// ErrorModelProblem: the error model that every least-squares-type estimator minimises:
 // the difference between measured and predicted marker positions (and tool orientations, where a row
 // has one) over the free parameters of a robot.
 //
@@ -69,6 +69,10 @@ struct ErrorModelBounds {
   // rad: joint error coefficients, as the RMS over the dataset of the joint offset each one makes
   // (its bound is this over the RMS of its regressor).
   double joint_error = 0.5 * M_PI / 180.0;
+
+  // Keys bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length,
+  // bound_base_angle_deg, bound_joint_error_deg.
+  static const OptionTable<ErrorModelBounds>& Table();
 };
 
 struct ErrorModelOptions {
@@ -89,12 +93,10 @@ struct ErrorModelOptions {
   double identifiability_tolerance = 1e-6;
   ErrorModelBounds bounds;
 
+  // The keys above (fixed, identify_ratios, identify_markers, identify_session_bases, initialize_bases,
+  // orientation_length (a length), identifiability_tolerance) and the bounds'.
+  static const OptionTable<ErrorModelOptions>& Table();
   bool IsValid(std::string* why) const;
-  // Reads the keys above from an estimator's options (fixed, identify_ratios, identify_markers,
-  // identify_session_bases, initialize_bases, orientation_length (length), identifiability_tolerance,
-  // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg,
-  // bound_joint_error_deg).
-  void Read(OptionsReader* reader);
 };
 
 struct ErrorModelParameter {

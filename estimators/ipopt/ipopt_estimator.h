@@ -34,6 +34,8 @@ struct IpoptOptions : ErrorModelEstimatorOptions {
   double max_time_seconds = 0.0;       // Ipopt's max_cpu_time; 0: no limit
   int print_level = 0;                 // Ipopt's print_level, 0..12; 0 prints nothing (not even the banner)
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<IpoptOptions>& Table();
   bool IsValid(std::string* why) const;
   static IpoptOptions FromYaml(const YAML::Node& node);
 };

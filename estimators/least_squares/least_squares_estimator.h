@@ -29,6 +29,8 @@ struct LeastSquaresOptions : ErrorModelEstimatorOptions {
   // registered in closed form, so Gauss-Newton steps are good from the start.
   double initial_damping = 1e-6;
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<LeastSquaresOptions>& Table();
   bool IsValid(std::string* why) const;
   static LeastSquaresOptions FromYaml(const YAML::Node& node);
 };

@@ -41,6 +41,8 @@ struct NloptOptions : ErrorModelEstimatorOptions {
   // characteristic scale, so 1e-12 is 1 fm / 1 frad).
   double parameter_tolerance = 1e-12;
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<NloptOptions>& Table();
   bool IsValid(std::string* why) const;
   static NloptOptions FromYaml(const YAML::Node& node);
 };
