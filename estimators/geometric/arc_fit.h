@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "estimators/geometric/circle_fit.h"
+#include "framework/options.h"
 
 namespace kincal::geometric {
 
@@ -38,6 +39,8 @@ struct ArcFitOptions {
   // Iteration limit of the geometric circle fit.
   int max_iterations = 100;
 
+  // Keys circle_fit, min_spread (a length), min_curvature_ratio, max_iterations.
+  static const OptionTable<ArcFitOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 

@@ -37,7 +37,7 @@
 namespace kincal::geometric {
 
 struct GeometricProblem {
-  Robot start;                       // the start robot, modified DH (mdh_conversion.h)
+  Robot start;                       // the start robot, modified DH (models/conversion.h)
   Eigen::VectorXd x_cal;             // joint angles of the calibration configuration (start drives)
   std::vector<std::vector<std::pair<int, double>>> moved;  // per joint: Sweep::moved
   std::vector<MdhRow> nominal;       // the start robot's MDH rows

@@ -12,21 +12,23 @@ namespace kincal {
 
 using geometric::ArcFit;
 
-bool RatioRegressionEstimator::Options::IsValid(std::string* why) const {
-  if (!arc.IsValid(why)) return false;
-  return IsValidStddevMethod(stddev, bootstrap_samples, why);
+const OptionTable<RatioRegressionEstimator::Options>& RatioRegressionEstimator::Options::Table() {
+  using O = RatioRegressionEstimator::Options;
+  static const OptionTable<O> table =
+      OptionTable<O>("ratio_regression")
+          .Include(geometric::ArcFitOptions::Table(), &O::arc)
+          .Add("marker", &O::marker, "the marker whose sweeps to use; empty: every marker")
+          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
+          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
+          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
+          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+  return table;
 }
 
+bool RatioRegressionEstimator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 RatioRegressionEstimator::Options RatioRegressionEstimator::Options::FromYaml(const YAML::Node& node) {
-  OptionsReader reader(node, "ratio_regression");
-  Options o;
-  ReadArcFitOptions(&reader, &o.arc);
-  reader.Get("marker", &o.marker);
-  reader.Get("stddev", &o.stddev);
-  reader.Get("bootstrap_samples", &o.bootstrap_samples);
-  reader.Get("bootstrap_seed", &o.bootstrap_seed);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,

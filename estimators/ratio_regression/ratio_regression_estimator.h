@@ -33,6 +33,8 @@ class RatioRegressionEstimator final : public Estimator {
     int bootstrap_samples = 200;
     int bootstrap_seed = 1;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };

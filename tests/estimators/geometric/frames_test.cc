@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "estimators/geometric/common_normals.h"
-#include "estimators/geometric/mdh_conversion.h"
+#include "models/conversion.h"
 #include "estimators/geometric/mdh_from_frames.h"
 #include "framework/math.h"
 #include "framework/random.h"
@@ -78,7 +78,7 @@ joints:
   - {theta: 0, d: 0.1157, a: 0, alpha: -1.5707963267948966}
   - {theta: 0, d: 0.0922, a: 0, alpha: 0}
 )", "ur10");
-  const Robot mdh = ToMdhRobot(ur10, "test");
+  const Robot mdh = ur10.WithModel(ConvertModel(ur10.model(), "mdh"));
   const Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
   const std::vector<Eigen::Isometry3d> F = mdh.model().FramePoses(q);
   std::vector<AxisLine> axes;
@@ -118,7 +118,7 @@ joints:
 base: {xyz: [0.1, -0.2, 0.3], rpy: [10, 20, 30]}
 tool: {xyz: [0.04, 0.03, 0.1], rpy: [-5, 15, 25]}
 )", "arm");
-  const Robot mdh = ToMdhRobot(dh, "test");
+  const Robot mdh = dh.WithModel(ConvertModel(dh.model(), "mdh"));
   EXPECT_EQ(mdh.model().convention(), "mdh");
   Rng rng(8);
   for (int trial = 0; trial < 20; ++trial) {
