@@ -44,24 +44,19 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   DoPrepare();
 }
 
-bool BranchRestartOptions::IsValid(std::string* why) const {
-  if (!(same_branch_distance > 0) || !std::isfinite(same_branch_distance)) {
-    if (why) *why = "same_branch_distance must be a positive angle (rad)";
-    return false;
-  }
-  if (random_starts < 0 || random_starts > 100000) {
-    if (why) *why = "random_starts must be in 0..100000";
-    return false;
-  }
-  return true;
+const OptionTable<BranchRestartOptions>& BranchRestartOptions::Table() {
+  using O = BranchRestartOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("branch restarts")
+          .Add("branch_restarts", &O::enabled, "retry a missed target from the nominal arm's branches")
+          .Add("same_branch_distance", &O::same_branch_distance,
+               "rad: a solution this near the seed in every joint is the controller's branch", Positive())
+          .Add("other_branches", &O::other_branches, "accept a solution on another branch within the limits")
+          .Add("random_starts", &O::random_starts, "random starts after the branches", Within(0, 100000));
+  return table;
 }
 
-void BranchRestartOptions::Read(OptionsReader* reader) {
-  reader->Get("branch_restarts", &enabled);
-  reader->Get("same_branch_distance", &same_branch_distance);
-  reader->Get("other_branches", &other_branches);
-  reader->Get("random_starts", &random_starts);
-}
+bool BranchRestartOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 

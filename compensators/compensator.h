@@ -52,10 +52,9 @@ struct BranchRestartOptions {
   // half around the seed with a spread growing to pi, the rest uniform within the joint limits (TRAC-IK's
   // random restarts). A fixed stream: the same target gives the same joints. 0: none.
   int random_starts = 64;
+  // Keys `branch_restarts` (enabled), `same_branch_distance`, `other_branches`, `random_starts`.
+  static const OptionTable<BranchRestartOptions>& Table();
   bool IsValid(std::string* why) const;
-  // Reads the keys `branch_restarts` (enabled), `same_branch_distance`, `other_branches` and
-  // `random_starts` (the caller calls reader->Finish()).
-  void Read(OptionsReader* reader);
 };
 
 struct CompensationReport {

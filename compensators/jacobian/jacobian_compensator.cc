@@ -50,21 +50,19 @@ class TwistResidual final : public PoseResidual {
 
 JacobianCompensator::JacobianCompensator() : JacobianCompensator(Options()) {}
 
-bool JacobianCompensator::Options::IsValid(std::string* why) const {
-  if (!(length_scale > 0) || !std::isfinite(length_scale)) {
-    if (why) *why = "length_scale must be a positive length";
-    return false;
-  }
-  return iteration.IsValid(why);
+const OptionTable<JacobianCompensator::Options>& JacobianCompensator::Options::Table() {
+  static const OptionTable<Options> table =
+      OptionTable<Options>("jacobian")
+          .Add("length_scale", OptionUnit::kLength, &Options::length_scale, "position rows are divided by it",
+               Positive())
+          .Include(GaussNewtonOptions::Table(), &Options::iteration);
+  return table;
 }
 
+bool JacobianCompensator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 JacobianCompensator::Options JacobianCompensator::Options::FromYaml(const YAML::Node& node) {
-  Options o;
-  OptionsReader reader(node, "jacobian");
-  reader.GetLength("length_scale", &o.length_scale);
-  o.iteration.Read(&reader);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void JacobianCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& /*seed*/,

@@ -20,36 +20,27 @@ using Pose34 = PoseExpansion::Pose34;
 
 JointSpaceCompensator::JointSpaceCompensator() : JointSpaceCompensator(Options()) {}
 
-bool JointSpaceCompensator::Options::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (degree < 1 || degree > 8) return fail("degree must be 1 to 8");
-  if (steps < 1 || steps > 5) return fail("steps must be 1 to 5");
-  if (!(length_scale > 0)) return fail("length_scale must be > 0");
-  if (!(damping >= 0)) return fail("damping must be >= 0");
-  if (!(max_step > 0)) return fail("max_step must be > 0");
-  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
-  if (!(max_fit_error > 0)) return fail("max_fit_error must be > 0");
-  if (!(max_table_bytes > 0)) return fail("max_table_bytes must be > 0");
-  return true;
+const OptionTable<JointSpaceCompensator::Options>& JointSpaceCompensator::Options::Table() {
+  using O = Options;
+  static const OptionTable<O> table =
+      OptionTable<O>("joint_space")
+          .Add("degree", &O::degree, "degree of the series in each joint", Within(1, 8))
+          .Add("steps", &O::steps, "Jacobian steps at run time", Within(1, 5))
+          .Add("length_scale", OptionUnit::kLength, &O::length_scale, "position rows are divided by it", Positive())
+          .Add("damping", &O::damping, "Levenberg damping (its square is mu)", NonNegative())
+          .Add("max_step", &O::max_step, "rad: the longest step", Positive())
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "converged within this position",
+               Positive())
+          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation", Positive())
+          .Add("max_fit_error", &O::max_fit_error, "Prepare() fails when the expansion misses by more", Positive())
+          .Add("max_table_bytes", &O::max_table_bytes, "refuse larger expansions", Positive());
+  return table;
 }
 
+bool JointSpaceCompensator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YAML::Node& node) {
-  Options o;
-  OptionsReader reader(node, "joint_space");
-  reader.Get("degree", &o.degree);
-  reader.Get("steps", &o.steps);
-  reader.GetLength("length_scale", &o.length_scale);
-  reader.Get("damping", &o.damping);
-  reader.Get("max_step", &o.max_step);
-  reader.GetLength("position_tolerance", &o.position_tolerance);
-  reader.Get("orientation_tolerance", &o.orientation_tolerance);
-  reader.Get("max_fit_error", &o.max_fit_error);
-  reader.Get("max_table_bytes", &o.max_table_bytes);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void JointSpaceCompensator::DoPrepare() {

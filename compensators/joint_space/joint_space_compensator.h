@@ -66,6 +66,8 @@ class JointSpaceCompensator final : public Compensator {
     // Refuse expansions larger than this (bytes).
     double max_table_bytes = 5e7;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };
