@@ -1,7 +1,8 @@
 #pragma once
-// Registry by name (Drake's MakeSolver / solver available(), Ceres' factories): every estimator and
-// compensator is created from its name and an options map (YAML), so the command line and studies only
-// wire registered pieces together. A backend whose library is missing stays listed, with the reason.
+// Registry by name (Drake's MakeSolver, Ceres' factories): every estimator and compensator is created
+// from its name and an options map (YAML), so the command line and studies only wire registered pieces
+// together. Every backend is required at build time (CMakeLists.txt), so every registered method can be
+// created. Each entry carries its options' documentation (framework/options.h).
 #include <functional>
 #include <map>
 #include <memory>
@@ -24,8 +25,7 @@ class Registry {
     std::string name;
     std::string description;  // one line, shown by `kincal methods`
     Factory factory;
-    bool available = true;
-    std::string why_unavailable;
+    std::vector<OptionDoc> options;  // key, type, default and doc of each option (`kincal methods`)
   };
 
   void Register(Entry entry) {
@@ -38,10 +38,6 @@ class Registry {
     return names;
   }
   bool IsRegistered(const std::string& name) const { return entries_.count(name) > 0; }
-  bool IsAvailable(const std::string& name) const {
-    const auto it = entries_.find(name);
-    return it != entries_.end() && it->second.available;
-  }
   const Entry& Get(const std::string& name) const {
     const auto it = entries_.find(name);
     if (it == entries_.end()) {
@@ -52,9 +48,7 @@ class Registry {
     return it->second;
   }
   std::unique_ptr<Product> Create(const std::string& name, const YAML::Node& options = YAML::Node()) const {
-    const Entry& entry = Get(name);
-    if (!entry.available) throw std::invalid_argument("method '" + name + "' is not available: " + entry.why_unavailable);
-    return entry.factory(options);
+    return Get(name).factory(options);
   }
 
  private:

@@ -199,8 +199,16 @@ py::list Entries(const R& registry) {
     py::dict d;
     d["name"] = e.name;
     d["description"] = e.description;
-    d["available"] = e.available;
-    d["why_unavailable"] = e.why_unavailable;
+    py::list options;
+    for (const OptionDoc& o : e.options) {
+      py::dict option;
+      option["key"] = o.key;
+      option["type"] = o.type;
+      option["default"] = o.default_value;
+      option["doc"] = o.doc;
+      options.append(option);
+    }
+    d["options"] = options;
     list.append(d);
   }
   return list;

@@ -29,12 +29,12 @@ std::string Indent(const std::string& text, const std::string& prefix) {
   return out;
 }
 
-// Registered, available, and not the baseline (which every study runs anyway).
+// Registered and not the baseline (which every study runs anyway).
 template <typename RegistryT>
 std::vector<std::string> Methods(const RegistryT& registry) {
   std::vector<std::string> out;
   for (const auto& n : registry.RegisteredNames()) {
-    if (n != "none" && registry.IsAvailable(n)) out.push_back(n);
+    if (n != "none") out.push_back(n);
   }
   return out;
 }
@@ -129,7 +129,7 @@ std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& re
     return "random";
   };
   for (const auto& e : estimators) o << "  - {method: " << e << ", datasets: [" << dataset_of({e}) << "]}\n";
-  if (registries.estimators->IsAvailable("geometric") && registries.estimators->IsAvailable("ratio_regression")) {
+  if (registries.estimators->IsRegistered("geometric") && registries.estimators->IsRegistered("ratio_regression")) {
     o << "  - {method: \"geometric,ratio_regression\", datasets: [sweep]}   # the seed's method\n";
   }
   o << "compensators:";

@@ -1,5 +1,5 @@
 #pragma once
-// Study: a comparison of calibration methods described in one YAML file (issue 6, DESIGN.md data flow).
+// Study: a comparison of calibration methods described in one YAML file (DESIGN.md data flow).
 // Datasets x estimator pipelines x compensators x Monte Carlo trials, every combination scored by the
 // same metrics on the same validation targets.
 //
@@ -171,7 +171,7 @@ struct Study {
 };
 
 // Parses a study. Throws std::invalid_argument "file:line:col: key: what" on any problem, including
-// unknown or unavailable methods and invalid method options (each is created once here to check).
+// unknown methods and invalid method options (each is created once here to check).
 Study ParseStudy(const std::string& text, const std::string& source_path,
                  const MethodRegistries& registries = MethodRegistries());
 Study ReadStudyFile(const std::string& path, const MethodRegistries& registries = MethodRegistries());

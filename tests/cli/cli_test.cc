@@ -159,5 +159,25 @@ TEST(Cli, HelpAndMethodsExitZero) {
   EXPECT_EQ(RunKincal("fk --help").exit_code, 0);
 }
 
+// `kincal methods --options NAME` prints the options from the table they are read by: every key with its
+// default (least_squares' max_iterations 50, the shared bound_angle_deg 5 deg, loss_scale 1e-4 m).
+TEST(Cli, MethodsPrintEachMethodsOptionsWithDefaults) {
+  const auto r = RunKincal("methods --options least_squares");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const auto line_of = [&](const std::string& key) {
+    const size_t at = r.out.find("  " + key + " ");
+    return at == std::string::npos ? std::string() : r.out.substr(at, r.out.find('\n', at) - at);
+  };
+  EXPECT_NE(line_of("max_iterations").find(" 50 "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("bound_angle_deg").find(" 5 "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("loss_scale").find(" 0.0001 m "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("fixed").find("list"), std::string::npos) << r.out;
+  const auto jacobian = RunKincal("methods --options jacobian");
+  EXPECT_NE(jacobian.out.find("random_starts"), std::string::npos) << jacobian.out;
+  const auto unknown = RunKincal("methods --options no_such_method");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("no_such_method"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace kincal
