@@ -38,7 +38,7 @@ void WriteAll(int fd, const std::string& text, const std::string& path) {
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw std::runtime_error(SystemError(path, "cannot write the journal"));
+    if (n <= 0) ThrowIoError(path, "cannot write the journal");
     done += static_cast<size_t>(n);
   }
 }
@@ -149,16 +149,16 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
       }
     }
     if (valid == 0) {  // new, empty or torn within its header
-      if (::ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path_, "cannot truncate the journal"));
+      if (::ftruncate(fd_, 0) != 0) ThrowIoError(path_, "cannot truncate the journal");
       discarded_bytes_ = static_cast<long>(text.size());
       ::lseek(fd_, 0, SEEK_SET);
       WriteAll(fd_, header, path_);
-      if (::fsync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+      if (::fsync(fd_) != 0) ThrowIoError(path_, "cannot sync the journal");
       if (!existed) SyncFolder(dir);
     } else if (valid < text.size()) {
       discarded_bytes_ = static_cast<long>(text.size() - valid);
       if (::ftruncate(fd_, static_cast<off_t>(valid)) != 0 || ::fsync(fd_) != 0) {
-        throw std::runtime_error(SystemError(path_, "cannot truncate the torn end of the journal"));
+        ThrowIoError(path_, "cannot truncate the torn end of the journal");
       }
     }
     ::lseek(fd_, 0, SEEK_END);
@@ -179,7 +179,7 @@ void StudyJournal::Append(int item, const StudyTables& rows) {
                              Hex(HashLabel(payload)) + " " + payload + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
   WriteAll(fd_, record, path_);
-  if (::fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+  if (::fdatasync(fd_) != 0) ThrowIoError(path_, "cannot sync the journal");
 }
 
 }  // namespace kincal
