@@ -1,7 +1,7 @@
 // The promise about bad input, from the command line (docs/RELIABILITY.md): whatever a file holds, kincal
 // exits with status 0 or 2, and 2 comes with one line on stderr that names the file and, where there is
-// one, the line and column. Each case here was an escape (exit status 1, or a message without the file)
-// before issue 10, or is a shape of damage files really have: truncated, binary, wrong encoding.
+// one, the line and column. Each case here is a way to escape that promise (exit status 1, or a message
+// without the file) or a shape of damage files really have: truncated, binary, wrong encoding.
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -37,7 +37,7 @@ void ExpectBadInput(const std::string& arguments, const std::string& file, const
 const char* kSixJointHeader = "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm\n";
 
 TEST(BadInput, AColumnIndexBeyondIntIsAnUnknownColumnAtItsPlace) {
-  // Issue 10's report: this header ended kincal with exit status 1 and "kincal: error: stoi".
+  // This header once ended kincal with exit status 1 and "kincal: error: stoi".
   TempDir dir;
   const std::string data = dir.path("data.csv");
   WriteText(data, "q1_deg,q99999999999999999999_deg,x_mm,y_mm,z_mm\n1,2,3,4,5\n");
@@ -215,6 +215,26 @@ TEST(BadInput, InvalidOptionsNameTheOptionsFile) {
                      Example("seed_identified.yaml") + " --targets " + dir.path("targets.csv") +
                      " --method jacobian --options " + options + " --out " + dir.path("out.csv"),
                  options);
+}
+
+// A value out of its range is located like a value of the wrong type: the options file, the value's line
+// and column (the options' table checks the requirement as it reads, framework/options.h).
+TEST(BadInput, AnOptionOutOfRangeNamesItsLineAndColumn) {
+  TempDir dir;
+  const std::string options = dir.path("options.yaml");
+  const std::string data = dir.path("data.csv");
+  WriteText(data, std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n");
+  WriteText(options, "loss: huber\nmax_iterations: -3\n");
+  const std::string identify = "identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                               " --method least_squares --options " + options + " --out " + dir.path("out.yaml");
+  ExpectBadInput(identify, options, ": line 2, column 17: ");
+  EXPECT_NE(RunKincal(identify).err.find("'max_iterations': must be >= 0, got '-3'"), std::string::npos);
+  WriteText(options, "length_scale: 0.5m\nrandom_starts: 100001\n");
+  WriteText(dir.path("targets.csv"), "x_mm,y_mm,z_mm\n400,0,500\n");
+  ExpectBadInput("compensate --nominal " + Example("seed_nominal.yaml") + " --identified " +
+                     Example("seed_identified.yaml") + " --targets " + dir.path("targets.csv") +
+                     " --method jacobian --options " + options + " --out " + dir.path("out.csv"),
+                 options, ": line 2, column 16: ");
 }
 
 TEST(BadInput, AMissingOrUnreadableFileIsStatusTwo) {
