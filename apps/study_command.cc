@@ -1,6 +1,6 @@
 // kincal study STUDY.yaml --out DIR [--threads N] [--shard i/N]
 // Runs a study (studies/study.h describes the file) and writes results, plots and report.md.
-// Resumable (issue 13): finished work items are journaled in DIR; the same command again continues.
+// Resumable: finished work items are journaled in DIR; the same command again continues.
 // SIGTERM and SIGINT (Slurm preemption, a time limit, Ctrl-C) stop taking new items; the items in flight
 // finish and are journaled; the command exits with 128 + the signal's number. A second Ctrl-C ends it at once
 // (the journal loses at most the items in flight).

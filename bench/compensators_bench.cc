@@ -175,7 +175,7 @@ void BM_KdlLma(benchmark::State& state, bool matched, bool tracked) {
 }
 
 // joint_space on the tracked arm (2000 random reachable targets, singular neighbourhoods included):
-// the fraction within 0.05 mm and 1e-4 rad (issue 12: >= 95 %), time per Compensate() (<= 2 us),
+// the fraction within 0.05 mm and 1e-4 rad (>= 95 %), time per Compensate() (<= 2 us),
 // memory (<= 50 MB) and the build (<= 10 s on one core, BM_JointSpacePrepare). KDL on the same targets:
 // BM_KdlLma/tracked_*.
 void BM_JointSpaceTracked(benchmark::State& state, const std::string& options_yaml) {

@@ -1,5 +1,5 @@
 // The whole `kincal compensate --method analytic_derivative` on 2000 targets without seeds against the same
-// targets with seeds (issue 12: at most 3x), for the seed's arm, IRB 120, UR10 and Puma 560.
+// targets with seeds (at most 3x), for the seed's arm, IRB 120, UR10 and Puma 560.
 //
 // Two kinds of targets, each the pose of a random configuration within the joint limits (seed 2000):
 //  - reachable: the identified (real) arm's pose, which the arm reaches by construction;

@@ -1,6 +1,6 @@
 #pragma once
 // From a controller's joint readings to a robot's actual joint angles, and back (DESIGN.md, file contract
-// v1 additions; issue 11). Three stages, in this order:
+// v1 additions). Three stages, in this order:
 //
 //   r      the readings: a row's joint values (q1_deg..: commanded, or read back from the controller),
 //          or, when the row has encoder counts and the robot has drives, the counts read as angles with

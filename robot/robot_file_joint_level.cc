@@ -1,4 +1,4 @@
-// Robot-file keys of the joint level (DESIGN.md "File contracts (v1)", issue 11):
+// Robot-file keys of the joint level (DESIGN.md "File contracts (v1)"):
 //
 //   velocity_limits: [250, 250, 250, 320, 320, 420]   # angle unit per second (length unit for prismatic)
 //   coupling: [[1, 0, 0], [0, 1, 0], [0, 1, 1]]       # actual joints = C x readings

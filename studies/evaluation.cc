@@ -355,7 +355,7 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
   return all.SelectRows(train_rows);
 }
 
-// Issue 10: a method that throws (anything) or returns non-finite numbers fails its work item (or, for a
+// A method that throws (anything) or returns non-finite numbers fails its work item (or, for a
 // compensator, its rows) with the reason as the note; the study goes on.
 ItemResult StudyEvaluator::Run(const WorkItem& item) const {
   try {

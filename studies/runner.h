@@ -17,7 +17,7 @@ struct StudyRunOptions {
   std::ostream* progress = nullptr;  // null: silent
   bool interactive = false;  // progress as a bar redrawn in place (stderr is a terminal)
   bool write_report = true;  // whole studies only; shards are reported by `kincal merge`
-  // Resumable runs (issue 13, studies/journal.h): every finished item is recorded in
+  // Resumable runs (studies/journal.h): every finished item is recorded in
   // out_dir/study.journal; a run on a folder with a journal of the same study and shard runs only the
   // items it lacks. A journal of another study is refused. false: no journal is read or written.
   bool journal = true;

@@ -1,4 +1,4 @@
-// The command line with joint-level errors (issue 11): `kincal predict` gives, row by row and in order,
+// The command line with joint-level errors: `kincal predict` gives, row by row and in order,
 // where the robot puts each measured point (the truth predicts its own noise-free data exactly); a
 // compensated program reaches its targets on the real arm; bad input ends with exit 2 and one line.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 12: every target the real arm reaches is reached, with or without the controller's solution.
+// Every target the real arm reaches is reached, with or without the controller's solution.
 // The seed's arm (nominal: Table 1; identified: Table 2) is the hard case: its wrist is near-singular
 // over much of the joint space, and next to the folds of the nominal workspace the identified arm reaches
 // poses the nominal one does not (the controller has no solution) and vice versa.

@@ -1,5 +1,5 @@
 // Every error-model estimator (least_squares, ceres, nlopt, ipopt) on real measurements, started from the
-// example robot file with default options (issue 11, "estimators that start anywhere"): bases, tool and
+// example robot file with default options ("estimators that start anywhere"): bases, tool and
 // reflectors are placed in closed form and the bounds centred there, so all four reach the same minimum.
 // Skipped when ../shared/data is absent.
 //   irb120_faro: even rows fit, odd rows scored, reflector 1; reference fit 0.525 mm held-out (data README).

@@ -1,4 +1,4 @@
-// Joint-level errors in the error model (issue 11): the analytic Jacobian with every joint error type
+// Joint-level errors in the error model: the analytic Jacobian with every joint error type
 // against central differences, and exact recovery of a truth that has them from noise-free data by all
 // four error-model estimators (efficiency: joint_error_efficiency_test.cc).
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Joint-level errors on the real ABB IRB 120 of ../shared/data/irb120_faro (issue 11): all 982 processed
+// Joint-level errors on the real ABB IRB 120 of ../shared/data/irb120_faro: all 982 processed
 // rows in measurement order (each reached from its predecessor in the unfiltered readings), even rows fit,
 // odd rows scored. Geometry alone reaches 0.523 mm held-out;
 // the issue's goals: + gravity of joints 2 and 3 <= 0.47 mm, + the approach term of every joint

@@ -1,4 +1,4 @@
-// The joint level of robots (issue 11): robot-file keys velocity_limits, coupling, gravity and
+// The joint level of robots: robot-file keys velocity_limits, coupling, gravity and
 // joint_errors (round trips, messages), the measurement sequence of datasets (previous poses, from_q
 // columns, subsets), readings -> actual angles and back, and the simulator with a truth that has them.
 #include <cstring>

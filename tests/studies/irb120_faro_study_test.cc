@@ -1,5 +1,5 @@
-// The real-data example study, examples/studies/irb120_faro.yaml, on ../shared/data/irb120_faro (issue 11,
-// item 7): geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, + the
+// The real-data example study, examples/studies/irb120_faro.yaml, on ../shared/data/irb120_faro:
+// geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, + the
 // wrist's gravity, with the "before" baseline; reflector 1 alone and the three reflectors jointly. Skipped
 // when the data is absent.
 #include <cmath>
