@@ -1,5 +1,9 @@
 #include "apps/cli_util.h"
 
+#include "compensators/builtin.h"
+#include "estimators/builtin.h"
+#include "framework/plugin.h"
+
 #include "framework/atomic_file.h"
 #include "framework/error.h"
 
@@ -39,6 +43,25 @@ YAML::Node LoadYamlFile(const std::string& path) {
   } catch (const YAML::Exception& e) {
     ThrowInputError(path, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
   }
+}
+
+std::vector<char*> LoadPlugins(int argc, char** argv) {
+  std::vector<std::string> paths = PluginPathsFromEnvironment();
+  std::vector<char*> rest;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (i > 0 && arg == "--plugin") {
+      if (i + 1 >= argc) throw std::invalid_argument("--plugin: expected the path of a plugin library");
+      paths.push_back(argv[++i]);
+    } else if (i > 0 && arg.rfind("--plugin=", 0) == 0) {
+      paths.push_back(arg.substr(9));
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
+  for (const auto& path : paths) LoadPlugin(path, registrar);
+  return rest;
 }
 
 }  // namespace kincal::app

@@ -30,4 +30,10 @@ auto NamingFile(const std::string& path, Body&& body) {
   }
 }
 
+// Loads the plugins of KINCAL_PLUGIN_PATH, then those named by `--plugin PATH` or `--plugin=PATH`
+// anywhere on the command line (before any subcommand's own options are parsed, so that every subcommand
+// sees their methods), into the registries. Returns the arguments without the --plugin options. Throws
+// std::invalid_argument (one line) for a plugin that cannot be loaded (framework/plugin.h).
+std::vector<char*> LoadPlugins(int argc, char** argv);
+
 }  // namespace kincal::app

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/exceptions.h>
 
+#include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/error.h"
 
@@ -25,8 +26,14 @@ int main(int argc, char** argv) {
   kincal::app::AddStudyCommand(app);
   kincal::app::AddMergeCommand(app);
   kincal::app::AddDemoCommand(app);
+  // Read before parsing (kincal::app::LoadPlugins): listed here for --help.
+  std::vector<std::string> plugins;
+  app.add_option("--plugin", plugins,
+                 "load estimators and compensators from a plugin library (before or after the subcommand, "
+                 "repeatable; also KINCAL_PLUGIN_PATH, colon-separated)");
   try {
-    app.parse(argc, argv);
+    std::vector<char*> args = kincal::app::LoadPlugins(argc, argv);
+    app.parse(static_cast<int>(args.size()), args.data());
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

@@ -6,6 +6,7 @@
 #include "compensators/joint_space/joint_space_compensator.h"
 #include "framework/error.h"
 #include "compensators/compensator.h"
+#include "compensators/builtin.h"
 
 namespace kincal {
 namespace {
@@ -38,9 +39,11 @@ CompensatorRegistry MakeRegistry() {
 
 }  // namespace
 
-const CompensatorRegistry& Compensators() {
-  static const CompensatorRegistry registry = MakeRegistry();
+CompensatorRegistry& MutableCompensators() {
+  static CompensatorRegistry registry = MakeRegistry();
   return registry;
 }
+
+const CompensatorRegistry& Compensators() { return MutableCompensators(); }
 
 }  // namespace kincal

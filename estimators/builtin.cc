@@ -9,6 +9,7 @@
 #include "estimators/nlopt/nlopt_estimator.h"
 #include "framework/error.h"
 #include "estimators/estimator.h"
+#include "estimators/builtin.h"
 
 namespace kincal {
 namespace {
@@ -54,10 +55,12 @@ EstimatorRegistry MakeRegistry() {
 
 }  // namespace
 
-const EstimatorRegistry& Estimators() {
-  static const EstimatorRegistry registry = MakeRegistry();
+EstimatorRegistry& MutableEstimators() {
+  static EstimatorRegistry registry = MakeRegistry();
   return registry;
 }
+
+const EstimatorRegistry& Estimators() { return MutableEstimators(); }
 
 // Defined here rather than in estimators/estimator.cc: it needs the registry, which lives in this library.
 std::vector<EstimationReport> RunPipeline(const std::vector<std::string>& methods,

@@ -11,4 +11,5 @@ PYBIND11_MODULE(kincal, m) {
   kincal::python::BindRobot(m);
   kincal::python::BindDataset(m);
   kincal::python::BindMethods(m);
+  kincal::python::BindPlugins(m);
 }

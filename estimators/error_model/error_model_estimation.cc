@@ -2,13 +2,17 @@
 
 #include <algorithm>
 
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/selection/select_error_model.h"
+
 namespace kincal {
 
 const OptionTable<ErrorModelEstimatorOptions>& ErrorModelEstimatorOptions::Table() {
   using O = ErrorModelEstimatorOptions;
   static const OptionTable<O> table = OptionTable<O>("error model estimator")
                                           .Include(ErrorModelOptions::Table(), &O::error_model)
-                                          .Include(RowWeightingOptions::Table(), &O::weighting);
+                                          .Include(RowWeightingOptions::Table(), &O::weighting)
+                                          .Include(ModelSelectionOptions::Table(), &O::selection);
   return table;
 }
 
@@ -17,6 +21,10 @@ bool ErrorModelEstimatorOptions::IsValid(std::string* why) const { return Table(
 void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                         const Dataset& data, Robot* identified, EstimationReport* report) {
+  if (options.selection.select) {
+    SelectErrorModel(estimator, options, budget, minimize, start, controller, data, identified, report);
+    return;
+  }
   const RowWeighting weighting = options.weighting.Weighting(data.rows.size(), estimator);
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options.error_model, weighting);
   if (FinishIfNothingFree(prep, identified, report)) return;
@@ -33,9 +41,12 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   report->iterations = iterations;
   FinishErrorModel(prep, x, weighting, identified, report);
   nlohmann::json& d = report->details;
+  d["prediction_covariance"] = ComputePredictionCovariance(prep, x, weighting).ToJson();
   if (run.details.is_object()) d.update(run.details);
   d["initial_cost_m2"] = initial_cost;
   d["loss"] = options.weighting.loss;
+  // The weight of orientation against position in the residuals (m per rad), where rows measured one.
+  if (data.HasOrientation()) d["orientation_length_m_per_rad"] = options.error_model.orientation_length;
   if (run.parameters_at_bounds >= 0) ReportParametersAtBounds(estimator, run.parameters_at_bounds, report);
 }
 

@@ -13,6 +13,14 @@ CLI = pathlib.Path(os.environ.get("KINCAL_CLI", SOURCE_DIR / "build" / "apps" / 
 ROBOTS = SOURCE_DIR / "examples" / "robots"
 
 
+def skip_without_data(message):
+    """A real-data test's skip: a failure instead under KINCAL_REQUIRE_DATA=1 (scripts/test sets it when
+    ../shared/data exists), so that a moved data folder cannot pass as a skip."""
+    if os.environ.get("KINCAL_REQUIRE_DATA") == "1":
+        pytest.fail(f"KINCAL_REQUIRE_DATA=1, but {message}")
+    pytest.skip(message)
+
+
 @pytest.fixture
 def robots():
     return ROBOTS

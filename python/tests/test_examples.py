@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from conftest import SOURCE_DIR
+from conftest import SOURCE_DIR, skip_without_data
 
 EXAMPLES = SOURCE_DIR / "examples" / "python"
 IRB120_DATA = SOURCE_DIR / ".." / "shared" / "data" / "irb120_faro"
@@ -37,7 +37,7 @@ def test_calibrate_irb120_reaches_the_landed_figures():
     if not (IRB120_DATA / "processed_joints.txt").exists():
         out = run_example("calibrate_irb120.py", IRB120_DATA)
         assert out.startswith("skipped:")
-        pytest.skip(f"no IRB 120 data in {IRB120_DATA}")
+        skip_without_data(f"no IRB 120 data in {IRB120_DATA}")
     out = run_example("calibrate_irb120.py", IRB120_DATA)
     rms = {l.split()[0] + (l.split()[1] if l.startswith("+") else ""): float(l.split("held-out RMS")[1].split()[0])
            for l in out.splitlines() if "held-out RMS" in l}

@@ -20,7 +20,7 @@ class BackendRealDataTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BackendRealDataTest, Irb120FaroHeldOutErrorMatchesLeastSquares) {
   Dataset all;
-  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no irb120_faro data";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no irb120_faro data");
   Dataset train, test;
   SplitEvenOdd(all, &train, &test);
   const Robot nominal = Irb120FaroNominal();

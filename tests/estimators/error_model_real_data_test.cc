@@ -23,7 +23,7 @@ class ErrorModelRealDataTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
   Dataset all;
-  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
   Dataset train, test;
   SplitEvenOdd(all, &train, &test);
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
@@ -41,7 +41,7 @@ TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
 // started at the flange, 124 mm from where it is.
 TEST_P(ErrorModelRealDataTest, Irb120FaroWithAHuberLossFromTheExampleRobotFile) {
   Dataset all;
-  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
   Dataset train, test;
   SplitEvenOdd(all, &train, &test);
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
@@ -74,7 +74,7 @@ double RmsWithTestPointFitted(const Robot& controller, const Robot& identified, 
 
 TEST_P(ErrorModelRealDataTest, Irb120Wu2015FromTheExampleRobotFile) {
   Irb120Wu2015 wu;
-  if (!LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu)) GTEST_SKIP() << "no ../shared/data/irb120_wu2015";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu), "no ../shared/data/irb120_wu2015");
   Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
   for (const std::string id : {"p1", "p2", "p3"}) nominal.markers[id] = Eigen::Vector3d::Zero();
   Robot identified;

@@ -61,7 +61,7 @@ Fit FitAndScore(const std::string& method, const Robot& nominal, const Dataset& 
 class JointErrorsRealData : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all_)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+    KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all_), "no ../shared/data/irb120_faro");
     SplitEvenOdd(all_, &train_, &test_);
   }
   Dataset all_, train_, test_;
@@ -128,7 +128,7 @@ std::vector<double> ThreeReflectorHeldOut(const Dataset& all, Robot nominal, con
 // wrist and payload") reduce the orientation error further.
 TEST(JointErrorsRealData3, ThreeReflectorsFittedJointly) {
   const Dataset all = ThreeReflectors();
-  if (all.rows.empty()) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(!all.rows.empty(), "no ../shared/data/irb120_faro");
   const auto same = ThreeReflectorHeldOut(all, Irb120WithJointErrors(true), "gravity 2, 3 + approach 1-6");
   for (double rms : same) EXPECT_LE(rms, 0.32e-3);
   const auto mdh = ThreeReflectorHeldOut(all, Irb120WithJointErrors(true, {1, 2}, "mdh"), "the same in MDH");
@@ -142,7 +142,7 @@ TEST(JointErrorsRealData3, ThreeReflectorsFittedJointly) {
 // instead of the processed row before them brings reflector 1 from 0.275 to 0.265 mm.
 TEST(JointErrorsRealData, ThePreviousPosesOfTheUnfilteredSequence) {
   Dataset all;
-  if (!LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all)) GTEST_SKIP() << "no ../shared/data/irb120_faro";
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
   int from_sequence = 0;
   for (const auto& m : all.rows) from_sequence += m.from_q.has_value();
   EXPECT_EQ(from_sequence, 16);

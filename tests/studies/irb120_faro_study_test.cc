@@ -17,9 +17,8 @@ namespace kincal {
 namespace {
 
 TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
-  if (!std::ifstream(testing::SharedDataPath("irb120_faro/processed_joints.txt")).good()) {
-    GTEST_SKIP() << "no ../shared/data/irb120_faro: the real-data study needs the shared data folder";
-  }
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(std::ifstream(testing::SharedDataPath("irb120_faro/processed_joints.txt")).good(),
+                                  "no ../shared/data/irb120_faro: the real-data study needs the shared data folder");
   testing::TempDir tmp;
   const Study study = ReadStudyFile(testing::SourcePath("examples/studies/irb120_faro.yaml"));
   RunStudy(study, tmp.path("out"), StudyRunOptions());

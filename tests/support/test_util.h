@@ -1,6 +1,7 @@
 #pragma once
 // Shared test helpers: example robots, central differences, temporary folders, running the CLI.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -16,6 +17,28 @@ inline std::string SourcePath(const std::string& relative) { return std::string(
 inline std::string SharedDataPath(const std::string& relative) {
   return std::string(KINCAL_SHARED_DATA_DIR) + "/" + relative;
 }
+
+// Whether the real-data tests must run: KINCAL_REQUIRE_DATA=1 in the environment (scripts/test sets it
+// when ../shared/data exists) turns their skip into a failure, so that a moved or unreadable data folder
+// cannot pass unseen as a run of skips.
+inline bool SharedDataRequired() {
+  const char* value = std::getenv("KINCAL_REQUIRE_DATA");
+  return value != nullptr && std::string(value) == "1";
+}
+
+// In a test body or SetUp (GoogleTest included): when `available` is false, skips the test with `message`,
+// or fails it under KINCAL_REQUIRE_DATA=1. Either way the function returns.
+#define KINCAL_SKIP_WITHOUT_SHARED_DATA(available, message)                                  \
+  do {                                                                                      \
+    if (!(available)) {                                                                     \
+      if (::kincal::testing::SharedDataRequired()) {                                       \
+        FAIL() << "KINCAL_REQUIRE_DATA=1, but " << message;                               \
+      } else {                                                                              \
+        GTEST_SKIP() << message;                                                            \
+      }                                                                                     \
+    }                                                                                       \
+  } while (0)
+
 inline Robot LoadExampleRobot(const std::string& file) { return ReadRobotFile(SourcePath("examples/robots/" + file)); }
 inline Robot SeedNominal() { return LoadExampleRobot("seed_nominal.yaml"); }
 inline Robot SeedTruth() { return LoadExampleRobot("seed_identified.yaml"); }

@@ -57,9 +57,8 @@ class FanucRealData : public ::testing::Test {
  protected:
   void SetUp() override {
     std::string csv;
-    if (!FanucSweepsCsv(SharedDataPath("fanuc_boby2021/sweeps.csv"), true, &csv)) {
-      GTEST_SKIP() << "no ../shared/data/fanuc_boby2021/sweeps.csv";
-    }
+    KINCAL_SKIP_WITHOUT_SHARED_DATA(FanucSweepsCsv(SharedDataPath("fanuc_boby2021/sweeps.csv"), true, &csv),
+                                    "no ../shared/data/fanuc_boby2021/sweeps.csv");
     data_ = ParseDatasetCsv(csv, "fanuc_boby2021 (from sweeps.csv)");
     ASSERT_EQ(data_.rows.size(), 108u);
   }
