@@ -1,3 +1,6 @@
+// Over 600 lines on purpose: one class's implementation (NominalInverseKinematics::Impl), whose detection
+// of the closed form, branch solvers, polishing and choice of branch share its private state and are read
+// together; the geometric subproblems it calls live in ik_geometry.cc.
 #include "robot/nominal_ik.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// Over 600 lines on purpose: ErrorModelProblem's construction (in named steps) and its row evaluation
+// share the class's column maps and per-row tables, and are read together; the options' table is here
+// beside the problem that reads it.
 #include "estimators/error_model/error_model_problem.h"
 
 #include <algorithm>
