@@ -74,7 +74,10 @@ void AddIdentifyCommand(CLI::App& app) {
       last["select"] = true;
     }
     for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
-      NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
+      const auto estimator = NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
+      // A robot the method cannot start from names the robot file (the first stage starts from it; later
+      // stages from its result, in the same convention).
+      NamingFile(a->nominal, [&] { estimator->CheckStart(nominal); });
     }
 
     const Dataset train = all.HasSplit() ? all.Subset(Split::kTrain) : all;

@@ -62,6 +62,10 @@ class Estimator {
   EstimationReport Estimate(const Robot& nominal, const Dataset& data, Robot* identified) const {
     return Estimate(nominal, nominal, data, identified);
   }
+  // Throws std::invalid_argument when the method cannot start from `start` whatever the data (a
+  // convention or joint type it cannot handle), so that the command line names the robot file, not the
+  // dataset. Default: every robot.
+  virtual void CheckStart(const Robot& start) const { (void)start; }
 
  private:
   virtual void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,

@@ -250,6 +250,11 @@ nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double 
 
 }  // namespace
 
+void GeometricEstimator::CheckStart(const Robot& start) const {
+  const Robot mdh = MdhStart(start);
+  if (start.model().convention() != "mdh") ConvertModel(mdh.model(), start.model().convention());
+}
+
 void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                     EstimationReport* report) const {
   std::string why;

@@ -77,6 +77,8 @@ class GeometricEstimator final : public Estimator {
   GeometricEstimator() : GeometricEstimator(Options()) {}
   explicit GeometricEstimator(const Options& options) : options_(options) {}
   std::string name() const override { return "geometric"; }
+  // Revolute joints, and a conversion to modified DH (exact) and back.
+  void CheckStart(const Robot& start) const override;
 
  private:
   void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "robot/robot_file.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
@@ -60,6 +61,39 @@ TEST(Cli, FkRejectsAWrongNumberOfJoints) {
   EXPECT_NE(r.err.find("expected 6 joint values"), std::string::npos) << r.err;
   EXPECT_EQ(LineCount(r.err), 1) << r.err;
   EXPECT_TRUE(r.out.empty());
+}
+
+// The geometric method starts from any convention: the IRB 120 example in Hayati's geometry, swept, is
+// identified in Hayati's geometry (converted exactly to modified DH for the construction and back), and
+// reproduces the sweeps it was built from. A robot it cannot start from is named, not the dataset.
+TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
+  testing::TempDir dir;
+  const std::string robot = Example("irb120_joint_errors.yaml"), data = dir.path("sweep.csv");
+  ASSERT_EQ(RunKincal("simulate --nominal " + robot + " --truth " + robot + " --protocol sweep --seed 3 --out " + data)
+                .exit_code,
+            0);
+  const auto r = RunKincal("identify --nominal " + robot + " --data " + data + " --method geometric --out " +
+                           dir.path("out.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Robot identified = ReadRobotFile(dir.path("out.yaml"));
+  EXPECT_EQ(identified.model().convention(), "hayati");
+  const Robot start = ReadRobotFile(robot);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(start.dof());
+  for (int i = 0; i < q.size(); ++i) q[i] = 0.3 * (i + 1);
+  // Noise-free sweeps of the start robot itself: the identified arm is the start arm.
+  EXPECT_LT((identified.model().ForwardKinematics(q).translation() - start.model().ForwardKinematics(q).translation())
+                .norm(),
+            1e-6);
+
+  testing::WriteText(dir.path("prismatic.yaml"), "name: p\nconvention: mdh\nunits: {length: mm, angle: deg}\n"
+                                                 "joints:\n  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
+                                                 "  - {alpha: 90, a: 100, theta: 0, d: 0, type: prismatic}\n");
+  testing::WriteText(dir.path("two.csv"), "q1_deg,q2_deg,x_mm,y_mm,z_mm,sweep\n0,0,100,0,0,1\n");
+  const auto bad = RunKincal("identify --nominal " + dir.path("prismatic.yaml") + " --data " + dir.path("two.csv") +
+                             " --method geometric --out " + dir.path("p_out.yaml"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err.rfind("kincal: " + dir.path("prismatic.yaml") + ": ", 0), 0u) << bad.err;
+  EXPECT_NE(bad.err.find("prismatic"), std::string::npos) << bad.err;
 }
 
 TEST(Cli, SimulateWritesAFileThatReadsBackAsTheLibrarysDataset) {
