@@ -41,6 +41,55 @@ void ParseShard(const std::string& text, int* index, int* count) {
   *count = n;
 }
 
+namespace {
+
+// Runs the work items mine[todo[k]] on `threads` threads (the caller's among them), each item's rows into
+// (*rows)[todo[k]] and the journal as it finishes; stops taking items when a stop is requested (*stopped)
+// or an item fails, whose exception is rethrown once every thread has ended. Returns the items finished.
+int RunItems(const Study& study, const StudyEvaluator& evaluator, const std::vector<WorkItem>& mine,
+             const std::vector<size_t>& todo, int threads, const StudyRunOptions& options, StudyJournal* journal,
+             ProgressReporter* reporter, std::vector<StudyTables>* rows_out, bool* stopped_out) {
+  std::vector<StudyTables>& rows = *rows_out;
+  ProgressReporter& progress = *reporter;
+  std::atomic<size_t> next{0};
+  std::atomic<int> finished{0};
+  std::atomic<bool> stopped{false};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto worker = [&]() {
+    while (true) {
+      if (options.stop_requested && options.stop_requested()) {
+        stopped = true;
+        return;
+      }
+      const size_t k = next.fetch_add(1);
+      if (k >= todo.size()) return;
+      try {
+        const ItemResult result = evaluator.Run(mine[todo[k]]);  // never throws for a method's failure
+        rows[todo[k]] = MakeStudyTables(study, evaluator.variants(), {result});
+        if (journal) journal->Append(mine[todo[k]].index, rows[todo[k]]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = todo.size();
+        return;
+      }
+      ++finished;
+      progress.Done();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  progress.Finish();
+  if (failure) std::rethrow_exception(failure);
+  *stopped_out = stopped;
+  return finished;
+}
+
+}  // namespace
+
 StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const StudyRunOptions& options,
                          const MethodRegistries& registries) {
   std::string why;
@@ -91,39 +140,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
                       << " bytes): that item runs again\n";
   }
   ProgressReporter progress(options.progress, options.interactive, static_cast<int>(todo.size()), what);
-  std::atomic<size_t> next{0};
-  std::atomic<int> finished{0};
-  std::atomic<bool> stopped{false};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto worker = [&]() {
-    while (true) {
-      if (options.stop_requested && options.stop_requested()) {
-        stopped = true;
-        return;
-      }
-      const size_t k = next.fetch_add(1);
-      if (k >= todo.size()) return;
-      try {
-        const ItemResult result = evaluator.Run(mine[todo[k]]);  // never throws for a method's failure
-        rows[todo[k]] = MakeStudyTables(study, evaluator.variants(), {result});
-        if (journal) journal->Append(mine[todo[k]].index, rows[todo[k]]);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = todo.size();
-        return;
-      }
-      ++finished;
-      progress.Done();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  progress.Finish();
-  if (failure) std::rethrow_exception(failure);
+  bool stopped = false;
+  const int finished = RunItems(study, evaluator, mine, todo, threads, options, journal.get(), &progress, &rows, &stopped);
 
   summary.items_total = num_items;
   summary.items_run = static_cast<int>(mine.size());
