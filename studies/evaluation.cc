@@ -261,6 +261,64 @@ std::vector<SelectionRow> SelectionRows(const EstimationReport& report) {
   return out;
 }
 
+// One validation set's targets compensated as a program (each from the previous commands) and scored on
+// the true arm: position and orientation errors, convergence, time per target, ISO 9283 cycles, and the
+// reports for the convergence plot when keep_reports. Throws for a non-finite solution.
+void ScoreProgram(const Compensator& compensator, const Robot& nominal, const Robot& truth,
+                  const std::vector<ValidationTarget>& targets, bool with_orientation, const ValidationSpec& spec,
+                  uint64_t dataset_seed, bool keep_reports, EvaluationRow* row) {
+  std::vector<double> position, orientation;
+  std::vector<CompensationReport> reports;
+  double seconds = 0.0;
+  const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
+  // The validation targets are a program, compensated in order (each from the previous commands).
+  std::vector<CompensationTarget> goals(targets.size());
+  for (size_t t = 0; t < goals.size(); ++t) {
+    goals[t].T_meas_tool = targets[t].T_meas_tool;
+    goals[t].has_orientation = with_orientation;
+    goals[t].seed = targets[t].q_nominal;
+  }
+  std::vector<CompensationResult> results = CompensateProgram(compensator, goals);
+  for (size_t t = 0; t < goals.size(); ++t) {
+    const ValidationTarget& target = targets[t];
+    const CompensationTarget& goal = goals[t];
+    CompensationResult& r = results[t];
+    if (r.report.non_finite) {
+      throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
+                               spec.name);
+    }
+    seconds += r.report.wall_time_seconds;
+    if (r.report.status == CompensationStatus::kConverged) ++row->converged;
+    const Eigen::VectorXd q_truth = TruthAngles(nominal, truth, r, t > 0 ? &results[t - 1].q_command : nullptr);
+    const Eigen::Isometry3d T = truth.model().ForwardKinematics(q_truth);
+    position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
+    if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
+    if (iso) {
+      // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
+      Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
+      std::vector<Eigen::Isometry3d> attained;
+      for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
+        Eigen::VectorXd q = q_truth;
+        for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
+        Eigen::Isometry3d Tc = truth.model().ForwardKinematics(q);
+        for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
+        attained.push_back(Tc);
+      }
+      row->iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
+    }
+    if (keep_reports) reports.push_back(std::move(r.report));
+  }
+  row->targets = static_cast<int>(targets.size());
+  row->position = SummarizeErrors(position);
+  row->orientation = SummarizeErrors(orientation);
+  row->compensate_seconds_per_target = row->targets ? seconds / row->targets : NAN;
+  if (!reports.empty()) row->convergence = Convergence(reports);
+  if (row->status == "ok" && row->converged < row->targets) {
+    row->status = "compensation_partial";
+    row->note = std::to_string(row->converged) + " of " + std::to_string(row->targets) + " targets converged";
+  }
+}
+
 }  // namespace
 
 ErrorSummary SummarizeErrors(std::vector<double> errors) {
@@ -526,57 +584,8 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
       compensator->Prepare(d.nominal, identified);
       for (size_t v = 0; v < rows.size(); ++v) {
         const ValidationSpec& spec = study_.validation[v];
-        EvaluationRow& row = rows[v];
-        std::vector<double> position, orientation;
-        std::vector<CompensationReport> reports;
-        double seconds = 0.0;
-        const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
-        // The validation targets are a program, compensated in order (each from the previous commands).
-        std::vector<CompensationTarget> goals(d.targets[v].size());
-        for (size_t t = 0; t < goals.size(); ++t) {
-          goals[t].T_meas_tool = d.targets[v][t].T_meas_tool;
-          goals[t].has_orientation = d.orientation[v];
-          goals[t].seed = d.targets[v][t].q_nominal;
-        }
-        std::vector<CompensationResult> results = CompensateProgram(*compensator, goals);
-        for (size_t t = 0; t < goals.size(); ++t) {
-          const ValidationTarget& target = d.targets[v][t];
-          const CompensationTarget& goal = goals[t];
-          CompensationResult& r = results[t];
-          if (r.report.non_finite) {
-            throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
-                                     spec.name);
-          }
-          seconds += r.report.wall_time_seconds;
-          if (r.report.status == CompensationStatus::kConverged) ++row.converged;
-          const Eigen::VectorXd q_truth = TruthAngles(d.nominal, d.truth, r, t > 0 ? &results[t - 1].q_command : nullptr);
-          const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
-          position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
-          if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
-          if (iso) {
-            // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
-            Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
-            std::vector<Eigen::Isometry3d> attained;
-            for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
-              Eigen::VectorXd q = q_truth;
-              for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
-              Eigen::Isometry3d Tc = d.truth.model().ForwardKinematics(q);
-              for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
-              attained.push_back(Tc);
-            }
-            row.iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
-          }
-          if (static_cast<int>(v) == convergence_validation_) reports.push_back(std::move(r.report));
-        }
-        row.targets = static_cast<int>(d.targets[v].size());
-        row.position = SummarizeErrors(position);
-        row.orientation = SummarizeErrors(orientation);
-        row.compensate_seconds_per_target = row.targets ? seconds / row.targets : NAN;
-        if (!reports.empty()) row.convergence = Convergence(reports);
-        if (row.status == "ok" && row.converged < row.targets) {
-          row.status = "compensation_partial";
-          row.note = std::to_string(row.converged) + " of " + std::to_string(row.targets) + " targets converged";
-        }
+        ScoreProgram(*compensator, d.nominal, d.truth, d.targets[v], d.orientation[v], spec, dataset_seed,
+                     static_cast<int>(v) == convergence_validation_, &rows[v]);
       }
     } catch (...) {
       const std::string reason = "compensator " + c.method + ": " + CurrentExceptionText();
