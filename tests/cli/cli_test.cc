@@ -68,7 +68,14 @@ TEST(Cli, FkRejectsAWrongNumberOfJoints) {
 // reproduces the sweeps it was built from. A robot it cannot start from is named, not the dataset.
 TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
   testing::TempDir dir;
-  const std::string robot = Example("irb120_joint_errors.yaml"), data = dir.path("sweep.csv");
+  // The example's three reflectors sit at the flange, on axis 6: placed apart, each sweep moves them.
+  std::string text = testing::ReadText(Example("irb120_joint_errors.yaml"));
+  const std::string at_flange = "markers: {SMR1: [0, 0, 0], SMR2: [0, 0, 0], SMR3: [0, 0, 0]}";
+  ASSERT_NE(text.find(at_flange), std::string::npos);
+  text.replace(text.find(at_flange), at_flange.size(),
+               "markers: {SMR1: [60, 40, 30], SMR2: [-50, 30, 20], SMR3: [10, -60, 40]}");
+  const std::string robot = dir.path("irb120.yaml"), data = dir.path("sweep.csv");
+  testing::WriteText(robot, text);
   ASSERT_EQ(RunKincal("simulate --nominal " + robot + " --truth " + robot + " --protocol sweep --seed 3 --out " + data)
                 .exit_code,
             0);
@@ -81,9 +88,10 @@ TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(start.dof());
   for (int i = 0; i < q.size(); ++i) q[i] = 0.3 * (i + 1);
   // Noise-free sweeps of the start robot itself: the identified arm is the start arm.
-  EXPECT_LT((identified.model().ForwardKinematics(q).translation() - start.model().ForwardKinematics(q).translation())
-                .norm(),
-            1e-6);
+  EXPECT_LT((identified.model().ForwardKinematics(q).matrix() - start.model().ForwardKinematics(q).matrix())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-9);
 
   testing::WriteText(dir.path("prismatic.yaml"), "name: p\nconvention: mdh\nunits: {length: mm, angle: deg}\n"
                                                  "joints:\n  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
