@@ -36,6 +36,8 @@ class OptionsReader {
   void GetAngleDeg(const std::string& key, double* value);
   bool Has(const std::string& key) const;
   const YAML::Node& node() const { return node_; }
+  // For keys a caller parses itself from node() (maps): marks `key` read for Finish().
+  void MarkRead(const std::string& key) { read_.push_back(key); }
   // Throws for any key not read by a Get call. Call last.
   void Finish() const;
   // Throws the input error "line L, column C: options of <what>: '<key>': <what>" (the value's place).
@@ -169,6 +171,21 @@ class OptionTable {
       rules_.push_back({r.keys, [r](const O& o) { return r.check(static_cast<const B&>(o)); }});
     }
     return *this;
+  }
+  // Keys a struct parses itself (a key that takes several forms, e.g. on, off or a map): `read` reads
+  // them through the reader (its Get calls, or MarkRead); `doc` documents the first of them.
+  OptionTable& AddRead(OptionDoc doc, std::function<void(OptionsReader*, O*)> read) {
+    Field f;
+    f.doc = doc;
+    f.read = std::move(read);
+    f.check = [](const O&) { return std::string(); };
+    const std::string shown = doc.default_value;
+    f.show = [shown](const O&) { return shown; };
+    return Push(std::move(f));
+  }
+  // Documents a key that another field's read() reads (its doc only).
+  OptionTable& Document(OptionDoc doc) {
+    return AddRead(std::move(doc), [](OptionsReader*, O*) {});
   }
   // A requirement between keys: check returns "" or the message; a file breaking it fails at the first
   // of `keys` it gives.

@@ -73,7 +73,18 @@ const OptionTable<ErrorModelOptions>& ErrorModelOptions::Table() {
                "weight of orientation against position, per rad", Positive())
           .Add("identifiability_tolerance", &O::identifiability_tolerance,
                "sine below which a Jacobian column counts as dependent", Between(0, 1, true, true))
-          .Include(ErrorModelBounds::Table(), &O::bounds);
+          .Include(ErrorModelBounds::Table(), &O::bounds)
+          .AddRead({"prior", "on, off or a map", "off",
+                    "Gaussian priors: on (defaults by kind), or sd by kind or name (priors.cc)"},
+                   [](OptionsReader* reader, O* o) { ReadPriorOptions(reader, &o->prior); })
+          .Document({"prior_noise", "length", "0 m", "noise of the prior's pseudo-residuals; 0: estimated"})
+          .Rule({"prior_noise", "prior"}, [](const O& o) -> std::string {
+            if (!(o.prior.noise >= 0.0) || !std::isfinite(o.prior.noise)) return "prior_noise must be finite and >= 0";
+            for (const auto& [key, sd] : o.prior.sd) {
+              if (!(sd >= 0.0) || !std::isfinite(sd)) return "prior: " + key + " must be finite and >= 0";
+            }
+            return "";
+          });
   return table;
 }
 
@@ -111,6 +122,18 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   }
   Build();
   MeasureRegressors();
+  AssignPriors();
+  for (const auto& [key, sd] : options.prior.sd) {
+    const auto& kinds = PriorOptions::Kinds();
+    const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
+                       std::any_of(candidates_.begin(), candidates_.end(), [&](const ErrorModelParameter& p) { return p.name == key; });
+    if (!known) {
+      std::string list;
+      for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("error model: prior: '" + key + "' is neither a kind (" + list +
+                                  ") nor a parameter of this robot and dataset");
+    }
+  }
 
   if (num_residuals_ <= num_parameters()) {
     throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(num_rows()) + " rows give " +
