@@ -1,3 +1,5 @@
+// Over 600 lines on purpose: one class (StudyEvaluator) whose preparation, runs and scoring of a work
+// item share its prepared datasets and registries; the scoring steps are named functions above it.
 #include "studies/evaluation.h"
 
 #include <algorithm>
