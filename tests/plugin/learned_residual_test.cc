@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "compensators/compensator.h"
 #include "estimators/estimator.h"
 #include "examples/plugins/learned_residual/kernel_ridge.h"
 #include "examples/plugins/learned_residual/learned_residual_estimator.h"
@@ -115,6 +116,31 @@ TEST_F(ResidualModelTest, ParametersAreTheInnerModelsAndClonesKeepTheResidual) {
   EXPECT_TRUE(clone->ForwardKinematics(q).isApprox(model.ForwardKinematics(q), 1e-15));
   EXPECT_LT((model.ForwardKinematics(q).translation() - moved.model().ForwardKinematics(q).translation() -
              residual_->Predict(q)).norm(), 1e-15);
+}
+
+// Compensation needs no method of its own: a compensator that solves the identified arm's forward
+// kinematics (jacobian) inverts model plus residual.
+TEST_F(ResidualModelTest, BuiltInCompensatorInvertsModelPlusResidual) {
+  const kincal::Robot nominal = kincal::testing::SeedNominal();
+  const kincal::Robot learned = robot_.WithModel(std::make_unique<ResidualModel>(robot_.model().Clone(), residual_, false));
+  auto compensator = kincal::Compensators().Create("jacobian");
+  compensator->Prepare(nominal, learned);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(-0.8, 0.8);
+  double moved = 0.0;
+  for (int k = 0; k < 10; ++k) {
+    Eigen::VectorXd q(6);
+    for (int j = 0; j < 6; ++j) q[j] = angle(rng);
+    kincal::CompensationTarget target;
+    target.T_meas_tool = learned.model().ForwardKinematics(q);
+    const auto result = compensator->Compensate(target);
+    ASSERT_EQ(result.report.status, kincal::CompensationStatus::kConverged);
+    EXPECT_LT((learned.model().ForwardKinematics(result.q_actual).translation() - target.T_meas_tool.translation()).norm(), 1e-9);
+    // Without the residual the same joints miss by the residual.
+    moved = std::max(moved, (robot_.model().ForwardKinematics(result.q_actual).translation() -
+                             target.T_meas_tool.translation()).norm());
+  }
+  EXPECT_GT(moved, 1e-5);
 }
 
 TEST(LearnedResidualRealData, LowersTheHeldOutErrorOfTheWristModelOnTheIrb120) {
