@@ -1,5 +1,7 @@
 // kincal identify --nominal N.yaml --data DATA.csv --method A[,B...] [--options O.yaml] --out I.yaml
-//                 [--report R.json] [--validate HELDOUT.csv]
+//                 [--report R.json] [--validate HELDOUT.csv] [--select]
+// --select: the last method (an error-model estimator) selects among the robot file's nested joint-error
+// models by cross-validation (`select: true`, estimators/selection/model_selection.h).
 // Methods run in order, each refining the robot of the one before (a pipeline). With a `split` column,
 // the train rows identify and the test rows validate.
 #include <iostream>
@@ -10,7 +12,9 @@
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
+#include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
 #include "robot/robot_file.h"
 
@@ -44,6 +48,7 @@ void AddIdentifyCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("identify", "identify a robot from a dataset (see kincal methods)");
   struct Args {
     std::string nominal, data, method, options, out, report, validate;
+    bool select = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "nominal robot file (the controller's model)")->required();
@@ -54,13 +59,20 @@ void AddIdentifyCommand(CLI::App& app) {
   cmd->add_option("--out", a->out, "identified robot file to write")->required();
   cmd->add_option("--report", a->report, "JSON report of every stage");
   cmd->add_option("--validate", a->validate, "held-out dataset to score the identified robot on");
+  cmd->add_flag("--select", a->select,
+                "select the joint-error model by blocked cross-validation (the last method's option select: true)");
   cmd->callback([a]() {
     const Robot nominal = ReadRobotFile(a->nominal);
     const Dataset all = ReadDataset(a->data);
     all.Validate(nominal.dof());
     const std::vector<std::string> methods = SplitComma(a->method);
     for (const auto& m : methods) Estimators().Get(m);  // unknown names fail before any work
-    const std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
+    std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
+    if (a->select) {
+      YAML::Node& last = options.back();
+      last = last && last.IsMap() ? YAML::Clone(last) : YAML::Node(YAML::NodeType::Map);
+      last["select"] = true;
+    }
     for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
       NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
     }
@@ -85,6 +97,7 @@ void AddIdentifyCommand(CLI::App& app) {
     for (const auto& r : reports) {
       std::cout << r.BriefReport() << "\n";
       for (const auto& w : r.warnings) std::cout << "  warning: " << w << "\n";
+      if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
       json["stages"].push_back(r.ToJson());
     }
     if (have_heldout) {
@@ -97,6 +110,17 @@ void AddIdentifyCommand(CLI::App& app) {
       json["validation"] = {{"unit", "mm"},
                             {"identified", StatsJson(after.position_stats, mm)},
                             {"nominal", StatsJson(before.position_stats, mm)}};
+      if (reports.back().details.contains("prediction_covariance")) {
+        // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
+        const PredictionCovariance cov = PredictionCovariance::FromJson(reports.back().details["prediction_covariance"]);
+        const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
+        const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
+        std::printf("held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
+                    "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
+                    check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
+                    100.0 * check.coverage_1d);
+        json["validation"]["uncertainty"] = check.ToJson();
+      }
       if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
         std::printf("held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
                     after.orientation_stats.count, after.orientation_stats.mean * 1e3,

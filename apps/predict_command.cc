@@ -1,4 +1,7 @@
-// kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml]
+// kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml] [--report R.json]
+// With --report (the JSON report of the `kincal identify` that wrote ROBOT.yaml), each row also gets its
+// predicted position standard deviation sd_mm = sqrt(trace(J C J^T)) and `outside_support` = 1 when sd_mm
+// exceeds 3 x the median over the training rows (estimators/error_model/prediction_uncertainty.h).
 // Where the robot model puts each measured marker: one row per dataset row, in order, so users can look at
 // their own residuals. The joint level (coupling, drives, joint errors with each row's previous pose)
 // applies as everywhere (robot/joint_readings.h).
@@ -8,6 +11,8 @@
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/dataset.h"
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "apps/cli_util.h"
 #include "robot/prediction.h"
 #include "framework/error.h"
 #include "robot/robot_file.h"
@@ -17,7 +22,7 @@ namespace kincal::app {
 void AddPredictCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("predict", "predict the measured position of every dataset row (x_mm, y_mm, z_mm)");
   struct Args {
-    std::string robot, data, out, nominal;
+    std::string robot, data, out, nominal, report;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--robot", a->robot, "robot file (YAML): usually an identified robot")->required();
@@ -26,6 +31,8 @@ void AddPredictCommand(CLI::App& app) {
   cmd->add_option("--nominal", a->nominal,
                   "the controller's robot, whose ratios turned the commanded angles into motor counts "
                   "(default: the robot itself; matters only for datasets without encoder counts)");
+  cmd->add_option("--report", a->report,
+                  "identify's JSON report for ROBOT.yaml: adds sd_mm and outside_support from its parameter covariance");
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
     const Robot controller = a->nominal.empty() ? robot : ReadRobotFile(a->nominal);
@@ -49,6 +56,27 @@ void AddPredictCommand(CLI::App& app) {
                                             " is not finite: values out of range in the robot file or the dataset");
       }
     }
+    std::vector<double> sd;
+    PredictionCovariance cov;
+    if (!a->report.empty()) {
+      nlohmann::json report;
+      try {
+        report = nlohmann::json::parse(ReadFileToString(a->report));
+      } catch (const nlohmann::json::exception& e) {
+        ThrowInputError(a->report, 0, 0, std::string("not a JSON report: ") + e.what());
+      }
+      const nlohmann::json* found = nullptr;
+      if (report.contains("stages")) {
+        for (const auto& stage : report["stages"]) {
+          if (stage.contains("details") && stage["details"].contains("prediction_covariance")) {
+            found = &stage["details"]["prediction_covariance"];
+          }
+        }
+      }
+      if (!found) ThrowInputError(a->report, 0, 0, "no stage with a prediction_covariance (an error-model estimator's)");
+      cov = NamingFile(a->report, [&] { return PredictionCovariance::FromJson(*found); });
+      sd = PredictionSd(robot, controller, data, cov);
+    }
     const Unit mm = LengthUnit("mm");
     const bool marker = data.HasMarkers(), split = data.HasSplit(), session = data.HasSessions();
     double sum2 = 0.0;
@@ -58,7 +86,9 @@ void AddPredictCommand(CLI::App& app) {
       if (marker) out << ",marker";
       if (split) out << ",split";
       if (session) out << ",session";
-      out << ",dx_mm,dy_mm,dz_mm,error_mm\n";
+      out << ",dx_mm,dy_mm,dz_mm,error_mm";
+      if (!sd.empty()) out << ",sd_mm,outside_support";
+      out << "\n";
       for (size_t i = 0; i < data.rows.size(); ++i) {
         const Measurement& m = data.rows[i];
         const Eigen::Vector3d& p = predicted[i];
@@ -69,11 +99,19 @@ void AddPredictCommand(CLI::App& app) {
         if (split) out << "," << (m.split == Split::kTrain ? "train" : m.split == Split::kTest ? "test" : "");
         if (session) out << "," << m.session;
         out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
-            << FormatInUnit(d.norm(), mm) << "\n";
+            << FormatInUnit(d.norm(), mm);
+        if (!sd.empty()) out << "," << FormatInUnit(sd[i], mm) << "," << (sd[i] > cov.SupportThreshold() ? 1 : 0);
+        out << "\n";
       }
     });
     const double rms = data.rows.empty() ? 0.0 : std::sqrt(sum2 / data.rows.size());
     std::printf("wrote %s: %zu rows, RMS error %.6g mm\n", a->out.c_str(), data.rows.size(), rms * 1e3);
+    if (!sd.empty()) {
+      int outside = 0;
+      for (double s : sd) outside += s > cov.SupportThreshold() ? 1 : 0;
+      std::printf("%d rows outside what the training poses support (sd_mm > %.4g, 3 x the training rows' median)\n",
+                  outside, cov.SupportThreshold() * 1e3);
+    }
   });
 }
 

@@ -8,12 +8,12 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 
 #include "framework/error.h"
 #include "robot/ik_geometry.h"
 #include "framework/math.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 
 namespace kincal {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/SVD>
+#include "framework/svd.h"
 
 namespace kincal {
 

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "estimators/error_model/prediction_uncertainty.h"
 #include "framework/error.h"
 #include "framework/math.h"
 #include "framework/pose_tables.h"
@@ -232,6 +233,33 @@ std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& 
   return out;
 }
 
+// The held-out rows' predicted standard deviations from the last estimator's covariance, when it has one.
+void AddPredictionSd(const std::vector<EstimationReport>& reports, const Robot& identified, const Robot& controller,
+                     const Dataset& test, std::vector<HeldoutPoint>* points) {
+  if (reports.empty() || !reports.back().details.contains("prediction_covariance")) return;
+  const PredictionCovariance cov = PredictionCovariance::FromJson(reports.back().details.at("prediction_covariance"));
+  const std::vector<double> sd = PredictionSd(identified, controller, test, cov);
+  for (size_t i = 0; i < points->size() && i < sd.size(); ++i) {
+    (*points)[i].sd = sd[i];
+    (*points)[i].outside_support = sd[i] > cov.SupportThreshold();
+  }
+}
+
+std::vector<SelectionRow> SelectionRows(const EstimationReport& report) {
+  std::vector<SelectionRow> out;
+  if (!report.details.contains("selection")) return out;
+  for (const auto& c : report.details.at("selection").at("candidates")) {
+    SelectionRow r;
+    r.candidate = c.at("candidate").get<std::string>();
+    r.parameters = c.at("parameters").get<int>();
+    r.cv_rms = c.at("cv_rms_mm").get<double>() * 1e-3;
+    r.se = c.at("se_mm").get<double>() * 1e-3;
+    r.chosen = c.at("chosen").get<bool>();
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace
 
 ErrorSummary SummarizeErrors(std::vector<double> errors) {
@@ -396,6 +424,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     }
     method.clear();
     result.identify_seconds = seconds;
+    if (!reports.empty()) result.selection = SelectionRows(reports.back());
     result.estimation_status = WorstStatus(reports);
     for (const auto& r : reports) {
       std::string why = r.status != EstimationStatus::kConverged ? r.message : "";
@@ -430,6 +459,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
       row.position = SummarizeErrors(e.position);
       row.orientation = SummarizeErrors(e.orientation);
       result.heldout = HeldoutPoints(identified, test, e);
+      AddPredictionSd(reports, identified, d.nominal, test, &result.heldout);
     }
     result.rows.push_back(row);
     return result;

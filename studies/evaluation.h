@@ -76,6 +76,17 @@ struct HeldoutPoint {
                                 // moves at the slowest joint's pace (velocity limits); NaN without limits
                                 // or without a previous pose
   double error = NAN;           // m: position error of the identified robot's prediction
+  double sd = NAN;              // m: its predicted standard deviation (estimators/error_model/
+                                // prediction_uncertainty.h), NaN when the last estimator gives no covariance
+  bool outside_support = false; // sd above the documented multiple of the training rows' median
+};
+
+// One candidate of a model selection (`select: true`; estimators/selection/model_selection.h).
+struct SelectionRow {
+  std::string candidate;
+  int parameters = 0;
+  double cv_rms = NAN, se = NAN;  // m
+  bool chosen = false;
 };
 
 struct ItemResult {
@@ -86,6 +97,7 @@ struct ItemResult {
   std::vector<EvaluationRow> rows;
   std::vector<ParameterRow> parameters;
   std::vector<HeldoutPoint> heldout;  // measured data only
+  std::vector<SelectionRow> selection;  // the last estimator's model selection, if it selected
 };
 
 class StudyEvaluator {

@@ -293,6 +293,56 @@ void Figure(std::ostream& o, const std::string& path, const std::string& caption
   if (!path.empty()) o << "![" << caption << "](" << path << ")\n\n";
 }
 
+// The model selection tables of a measured or simulated variant (selection.csv), one per estimator and trial.
+void SelectionTables(std::ostream& o, const ReportData& data, int variant) {
+  const ResultTable& t = data.tables().selection;
+  if (t.rows.empty()) return;
+  const int c_est = t.Column("estimator"), c_trial = t.Column("trial"), c_cand = t.Column("candidate");
+  std::string current;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    if (data.VariantOf(t, r) != variant) continue;
+    const std::string group = t.Text(r, c_est) + ", trial " + t.Text(r, c_trial);
+    if (group != current) {
+      if (current.empty()) o << "### Model selection (blocked cross-validation, one-standard-error rule)\n\n";
+      else o << "\n";
+      current = group;
+      o << "Estimator " << Cell(group) << ":\n\n| candidate | parameters | CV RMS ± se (mm) | chosen |\n|---|---|---|---|\n";
+    }
+    o << "| " << Cell(t.Text(r, c_cand)) << " | " << t.Text(r, t.Column("parameters")) << " | "
+      << ReportNumber(t.Number(r, t.Column("cv_rms_mm"))) << " ± " << ReportNumber(t.Number(r, t.Column("se_mm")))
+      << " | " << (t.Text(r, t.Column("chosen")) == "1" ? "**chosen**" : "") << " |\n";
+  }
+  if (!current.empty()) o << "\n";
+}
+
+// Per estimator: the held-out rows' median predicted sd and how many lie outside the training support.
+void UncertaintyTable(std::ostream& o, const ReportData& data, int variant) {
+  const ResultTable& t = data.tables().heldout;
+  const int c_sd = t.Column("sd_mm"), c_out = t.Column("outside_support"), c_est = t.Column("estimator");
+  if (c_sd < 0) return;
+  std::map<std::string, std::vector<double>> sd;
+  std::map<std::string, int> outside;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    if (data.VariantOf(t, r) != variant || !std::isfinite(t.Number(r, c_sd))) continue;
+    sd[t.Text(r, c_est)].push_back(t.Number(r, c_sd));
+    outside[t.Text(r, c_est)] += t.Text(r, c_out) == "1" ? 1 : 0;
+  }
+  if (sd.empty()) return;
+  o << "### Prediction uncertainty of the held-out rows\n\n"
+       "sd: the predicted position standard deviation, sqrt(trace(J C J^T)); outside: rows whose sd exceeds 3 x "
+       "the median over the training rows (where not to trust the model).\n\n"
+       "| estimator | median sd (mm) | max sd (mm) | outside / rows |\n|---|---|---|---|\n";
+  for (const auto& e : data.Estimators()) {
+    auto it = sd.find(e);
+    if (it == sd.end()) continue;
+    std::vector<double> v = it->second;
+    std::sort(v.begin(), v.end());
+    o << "| " << Cell(e) << " | " << ReportNumber(v[v.size() / 2]) << " | " << ReportNumber(v.back()) << " | "
+      << outside[e] << " / " << v.size() << " |\n";
+  }
+  o << "\n";
+}
+
 }  // namespace
 
 void WriteReport(const std::string& dir) {
@@ -329,6 +379,8 @@ void WriteReport(const std::string& dir) {
         Figure(o, heldout, "held-out error against reach and approach speed, " + var.label);
       }
     }
+    SelectionTables(o, data, v);
+    if (!var.simulated) UncertaintyTable(o, data, v);
     o << "### Parameters\n\n";
     ParameterTable(o, data, v);
     Figure(o, PlotParameterErrors(data, v), "parameter errors, " + var.label);
@@ -355,7 +407,9 @@ void WriteReport(const std::string& dir) {
        "(mean, RMS, max, 5/25/50/75/95 % quantiles), status\n"
        "- `parameters.csv`: every identified parameter with its nominal, estimate, reported standard deviation, "
        "truth and error\n"
-       "- `heldout.csv` (measured data): every held-out row's error with its reach and approach speed\n"
+       "- `heldout.csv` (measured data): every held-out row's error with its reach and approach speed, its "
+       "predicted sd and whether it lies outside the training support\n"
+       "- `selection.csv`: the model selection of estimators with `select: true`\n"
        "- `convergence.csv`, `iso9283.csv`, `timings.csv`; `study.json`: what was run\n";
   WriteFileAtomically(dir + "/report.md", o.str());
 }

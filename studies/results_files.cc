@@ -125,7 +125,9 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
   t.convergence.header = Concat(kKey, {"iteration", "position_error_median_mm", "position_error_max_mm",
                                        "orientation_error_median_deg", "orientation_error_max_deg", "active_targets"});
   t.heldout.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "row", "marker", "reach_mm",
-                      "approach_speed_deg_s", "error_mm"};
+                      "approach_speed_deg_s", "error_mm", "sd_mm", "outside_support"};
+  t.selection.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "candidate", "parameters",
+                        "cv_rms_mm", "se_mm", "chosen"};
   t.iso9283.header = Concat(kKey, {"pose", "cycles", "AP_P_mm", "AP_a_deg", "AP_b_deg", "AP_c_deg", "RP_l_mm",
                                    "RP_a_deg", "RP_b_deg", "RP_c_deg"});
   const double mm = 1e3, deg = 180.0 / M_PI;
@@ -160,7 +162,12 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
     for (const HeldoutPoint& h : r->heldout) {
       t.heldout.rows.push_back(Concat(Key(study, variants, *r, nullptr),
                                       {std::to_string(h.row), h.marker, Format(h.reach * mm), Format(h.approach_speed * deg),
-                                       Format(h.error * mm)}));
+                                       Format(h.error * mm), Format(h.sd * mm), h.outside_support ? "1" : "0"}));
+    }
+    for (const SelectionRow& c : r->selection) {
+      t.selection.rows.push_back(Concat(Key(study, variants, *r, nullptr),
+                                        {c.candidate, std::to_string(c.parameters), Format(c.cv_rms * mm),
+                                         Format(c.se * mm), c.chosen ? "1" : "0"}));
     }
     for (const ParameterRow& p : r->parameters) {
       t.parameters.rows.push_back(Concat(Key(study, variants, *r, nullptr),

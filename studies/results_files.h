@@ -11,7 +11,9 @@
 //   convergence.csv  compensator convergence per iteration (the study's first random validation set)
 //   iso9283.csv      ISO 9283 AP and RP per pose P1..P5
 //   heldout.csv      measured data: every held-out row's error with its reach and approach speed (the
-//                    report's error-against-reach and error-against-speed plots)
+//                    report's error-against-reach and error-against-speed plots), its predicted standard
+//                    deviation sd_mm and whether it lies outside what the training poses support
+//   selection.csv    estimators with `select: true`: every candidate's CV RMS, se, parameters, chosen
 // Every row starts with the work item's index; rows are in item order.
 #include <array>
 #include <string>
@@ -41,16 +43,18 @@ ResultTable ReadResultTable(const std::string& path);
 
 // The result tables of a set of work items, in item order.
 struct StudyTables {
-  ResultTable results, timings, parameters, convergence, iso9283, heldout;
-  static constexpr int kCount = 6;
+  ResultTable results, timings, parameters, convergence, iso9283, heldout, selection;
+  static constexpr int kCount = 7;
   // The tables in the order of kStudyTableFiles.
-  std::array<ResultTable*, kCount> All() { return {&results, &timings, &parameters, &convergence, &iso9283, &heldout}; }
+  std::array<ResultTable*, kCount> All() {
+    return {&results, &timings, &parameters, &convergence, &iso9283, &heldout, &selection};
+  }
   std::array<const ResultTable*, kCount> All() const {
-    return {&results, &timings, &parameters, &convergence, &iso9283, &heldout};
+    return {&results, &timings, &parameters, &convergence, &iso9283, &heldout, &selection};
   }
 };
 inline const char* const kStudyTableFiles[StudyTables::kCount] = {
-    "results.csv", "timings.csv", "parameters.csv", "convergence.csv", "iso9283.csv", "heldout.csv"};
+    "results.csv", "timings.csv", "parameters.csv", "convergence.csv", "iso9283.csv", "heldout.csv", "selection.csv"};
 
 StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant>& variants,
                             const std::vector<ItemResult>& results);

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/SVD>
-
 #include "framework/error.h"
 #include "robot/inverse_kinematics.h"
 #include "framework/math.h"
 #include "robot/nominal_ik.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 
 namespace kincal {
 

@@ -2,11 +2,10 @@
 
 #include <stdexcept>
 
-#include <Eigen/SVD>
-
 #include "framework/error.h"
 #include "robot/inverse_kinematics.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 
 namespace kincal {
 

@@ -2,20 +2,28 @@
 
 #include <algorithm>
 
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/selection/select_error_model.h"
+
 namespace kincal {
 
 bool ErrorModelEstimatorOptions::IsValid(std::string* why) const {
-  return error_model.IsValid(why) && weighting.IsValid(why);
+  return error_model.IsValid(why) && weighting.IsValid(why) && selection.IsValid(why);
 }
 
 void ErrorModelEstimatorOptions::ReadShared(OptionsReader* reader) {
   error_model.Read(reader);
   weighting.Read(reader);
+  selection.Read(reader);
 }
 
 void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                         const Dataset& data, Robot* identified, EstimationReport* report) {
+  if (options.selection.select) {
+    SelectErrorModel(estimator, options, budget, minimize, start, controller, data, identified, report);
+    return;
+  }
   const RowWeighting weighting = options.weighting.Weighting(data.rows.size(), estimator);
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options.error_model, weighting);
   if (FinishIfNothingFree(prep, identified, report)) return;
@@ -32,6 +40,7 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   report->iterations = iterations;
   FinishErrorModel(prep, x, weighting, identified, report);
   nlohmann::json& d = report->details;
+  d["prediction_covariance"] = ComputePredictionCovariance(prep, x, weighting).ToJson();
   if (run.details.is_object()) d.update(run.details);
   d["initial_cost_m2"] = initial_cost;
   d["loss"] = options.weighting.loss;

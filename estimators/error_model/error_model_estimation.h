@@ -7,7 +7,8 @@
 // bounded solvers) and the row weighting (loss, loss_scale, weights): every estimator minimises
 // sum_i w_i rho(|r_i|^2) (normal_equations.h).
 //
-// Sequence (EstimateErrorModel):
+// Sequence (EstimateErrorModel; with `select: true`, SelectErrorModel runs it per candidate and fold,
+// estimators/selection/select_error_model.h):
 //   1. PrepareErrorModel: place bases, tool and markers in closed form, hold what the data cannot
 //      determine (error_model.h); nothing free: converged after zero iterations.
 //   2. the backend's Minimizer from problem->InitialX() with the whole iteration budget;
@@ -21,6 +22,7 @@
 
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/row_weighting_options.h"
+#include "estimators/selection/model_selection.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
@@ -28,6 +30,7 @@ namespace kincal {
 struct ErrorModelEstimatorOptions {
   ErrorModelOptions error_model;   // error_model_problem.h
   RowWeightingOptions weighting;   // robust loss and per-row weights (keys loss, loss_scale, weights)
+  ModelSelectionOptions selection; // keys select, select_folds (estimators/selection/model_selection.h)
 
   bool IsValid(std::string* why) const;
   // The keys of both (see above). Estimators read their own keys after these, then Finish().

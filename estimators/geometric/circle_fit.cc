@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "estimators/geometric/small_svd.h"
+
 namespace kincal::geometric {
 namespace {
 
@@ -95,8 +97,7 @@ CircleFit2d FitCircleTaubin(const std::vector<Eigen::Vector2d>& points) {
   const double root = 2.0 * std::sqrt(z_mean);
   Eigen::MatrixX3d Z(m, 3);
   for (int k = 0; k < m; ++k) Z.row(k) << (n.p[k].squaredNorm() - z_mean) / root, n.p[k].x(), n.p[k].y();
-  const Eigen::JacobiSVD<Eigen::MatrixX3d> svd(Z, Eigen::ComputeFullV);
-  const Eigen::Vector3d v = svd.matrixV().col(2);
+  const Eigen::Vector3d v = RightSingularVectors<3>(Z).V.col(2);
   const double A = v[0] / root;
   return FromAlgebraic(n, Eigen::Vector4d(A, v[1], v[2], -z_mean * A));
 }
@@ -109,9 +110,9 @@ CircleFit2d FitCirclePratt(const std::vector<Eigen::Vector2d>& points) {
   const int m = static_cast<int>(n.p.size());
   Eigen::MatrixX4d Z(m, 4);
   for (int k = 0; k < m; ++k) Z.row(k) << n.p[k].squaredNorm(), n.p[k].x(), n.p[k].y(), 1.0;
-  const Eigen::JacobiSVD<Eigen::MatrixX4d> svd(Z, Eigen::ComputeFullV);
-  const Eigen::Vector4d s = svd.singularValues();
-  const Eigen::Matrix4d V = svd.matrixV();
+  const SmallSvd<4> svd = RightSingularVectors<4>(Z);
+  const Eigen::Vector4d s = svd.singular_values;
+  const Eigen::Matrix4d V = svd.V;
   Eigen::Vector4d A;
   if (s[3] < 1e-12 * s[0]) {
     A = V.col(3);  // the points are exactly on a circle (or line): the null vector

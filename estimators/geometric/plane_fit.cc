@@ -4,7 +4,8 @@
 #include <stdexcept>
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
+
+#include "estimators/geometric/small_svd.h"
 
 namespace kincal::geometric {
 
@@ -18,11 +19,10 @@ PlaneFit FitPlane(const std::vector<Eigen::Vector3d>& points) {
   for (int k = 0; k < m; ++k) A.row(k) = (points[k] - fit.centroid).transpose();
   // SVD of the centred points rather than an eigen-decomposition of their scatter matrix: squaring the
   // matrix would square its condition number and lose half the digits of a nearly flat arc's normal.
-  const Eigen::JacobiSVD<Eigen::MatrixX3d> svd(A, Eigen::ComputeFullV);
-  const Eigen::Vector3d s = svd.singularValues();
-  for (int i = 0; i < 3; ++i) fit.spread[i] = (i < s.size() ? s[i] : 0.0) / std::sqrt(static_cast<double>(m));
-  fit.e1 = svd.matrixV().col(0);
-  fit.e2 = svd.matrixV().col(1);
+  const SmallSvd<3> svd = RightSingularVectors<3>(A);
+  for (int i = 0; i < 3; ++i) fit.spread[i] = svd.singular_values[i] / std::sqrt(static_cast<double>(m));
+  fit.e1 = svd.V.col(0);
+  fit.e2 = svd.V.col(1);
   fit.normal = fit.e1.cross(fit.e2).normalized();
   return fit;
 }

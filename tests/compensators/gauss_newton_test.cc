@@ -3,10 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "compensators/common/gauss_newton.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 
 namespace kincal {
 namespace {

@@ -4,14 +4,13 @@
 // observability indices against a direct SVD.
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
-
 #include "estimators/error_model/base_registration.h"
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/pose_jacobians.h"
 #include "estimators/error_model/start_placement.h"
 #include "robot/prediction.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
 

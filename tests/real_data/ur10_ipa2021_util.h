@@ -21,17 +21,9 @@ inline const char* kUr10D = "Series_D/measurements_iso_cubes.csv";
 // True when the data are here. Without them a test skips, or fails when KINCAL_REQUIRE_DATA=1 (a run
 // that promises the real data must not pass by skipping).
 inline bool HaveUr10Data() { return std::ifstream(Ur10Series(kUr10D)).good(); }
-inline bool RequireData() {
-  const char* v = std::getenv("KINCAL_REQUIRE_DATA");
-  return v != nullptr && std::string(v) == "1";
-}
-#define KINCAL_UR10_DATA_OR_SKIP()                                                         \
-  do {                                                                                     \
-    if (!::kincal::testing::HaveUr10Data()) {                                              \
-      if (::kincal::testing::RequireData()) FAIL() << "KINCAL_REQUIRE_DATA=1 and no ../shared/data/ur10_ipa2021"; \
-      GTEST_SKIP() << "no ../shared/data/ur10_ipa2021";                                    \
-    }                                                                                      \
-  } while (0)
+// (tests/support/test_util.h's KINCAL_SKIP_WITHOUT_SHARED_DATA: the skip, or the failure.)
+#define KINCAL_UR10_DATA_OR_SKIP() \
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(::kincal::testing::HaveUr10Data(), "no ../shared/data/ur10_ipa2021")
 
 // Runs scripts/ur10_ipa2021_dataset with `arguments` (shell-quoted); stderr into *err.
 inline int RunUr10Converter(const std::string& arguments, const TempDir& dir, std::string* err) {

@@ -11,12 +11,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
-#include <Eigen/SVD>
 
 #include "robot/inverse_kinematics.h"
 #include "framework/math.h"
 #include "robot/nominal_ik.h"
 #include "framework/random.h"
+#include "framework/svd.h"
 #include "robot/robot_file.h"
 #include "tests/support/test_util.h"
 

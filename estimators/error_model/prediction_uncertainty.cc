@@ -1,0 +1,157 @@
+#include "estimators/error_model/prediction_uncertainty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+
+namespace kincal {
+namespace {
+
+// Per row of `problem` at x: sqrt(trace(J_S C J_S^T)) over the columns `columns` (problem column ->
+// covariance index, -1 when absent).
+std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const Eigen::MatrixXd& C,
+                          const std::vector<int>& columns, int rows) {
+  std::vector<int> used, index;
+  for (size_t j = 0; j < columns.size(); ++j) {
+    if (columns[j] >= 0) used.push_back(static_cast<int>(j)), index.push_back(columns[j]);
+  }
+  const int q = static_cast<int>(used.size());
+  Eigen::MatrixXd Cs(q, q);
+  for (int a = 0; a < q; ++a) for (int b = 0; b < q; ++b) Cs(a, b) = C(index[a], index[b]);
+  auto ws = problem.NewWorkspace();
+  Vector6d r;
+  Matrix6Xd J;
+  Eigen::MatrixXd Js(3, q);
+  std::vector<double> out(rows);
+  for (int i = 0; i < rows; ++i) {
+    problem.EvaluateRow(i, x, ws.get(), &r, &J);
+    for (int a = 0; a < q; ++a) Js.col(a) = J.col(used[a]).head<3>();
+    const double variance = (Js * Cs * Js.transpose()).trace();
+    out[i] = variance > 0.0 ? std::sqrt(variance) : (variance == 0.0 ? 0.0 : NAN);
+  }
+  return out;
+}
+
+// (J^T W J)^+ in the column-normalised basis, eigenvalues below 1e-12 of the largest left out: a fit can
+// end with combinations the data hardly determine (condition numbers of 1e8 and more on the UR10), where
+// a Cholesky factorisation fails, yet they barely move the training poses' predictions.
+Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
+  const Eigen::Index p = JtJ.rows();
+  Eigen::VectorXd d(p);
+  for (Eigen::Index j = 0; j < p; ++j) d[j] = JtJ(j, j) > 0.0 ? 1.0 / std::sqrt(JtJ(j, j)) : 0.0;
+  const Eigen::MatrixXd S = d.asDiagonal() * JtJ * d.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  if (eig.info() != Eigen::Success) return Eigen::MatrixXd::Constant(p, p, NAN);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(p);
+  for (Eigen::Index j = 0; j < p; ++j) if (lambda[j] > cut && lambda[j] > 0.0) inv[j] = 1.0 / lambda[j];
+  return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+nlohmann::json PredictionCovariance::ToJson() const {
+  nlohmann::json j;
+  j["names"] = names;
+  j["unit"] = "SI (m, rad, ratio scale, joint error coefficients' SI units)";
+  j["sigma_m"] = sigma;
+  j["median_train_sd_m"] = median_train_sd;
+  j["support_factor"] = kSupportFactor;
+  nlohmann::json m = nlohmann::json::array();
+  for (Eigen::Index a = 0; a < matrix.rows(); ++a) {
+    std::vector<double> row(matrix.cols());
+    for (Eigen::Index b = 0; b < matrix.cols(); ++b) row[b] = matrix(a, b);
+    m.push_back(row);
+  }
+  j["matrix"] = m;
+  return j;
+}
+
+PredictionCovariance PredictionCovariance::FromJson(const nlohmann::json& j) {
+  PredictionCovariance c;
+  try {
+    c.names = j.at("names").get<std::vector<std::string>>();
+    c.sigma = j.at("sigma_m").is_number() ? j.at("sigma_m").get<double>() : NAN;
+    c.median_train_sd = j.at("median_train_sd_m").is_number() ? j.at("median_train_sd_m").get<double>() : NAN;
+    const auto& m = j.at("matrix");
+    const size_t p = c.names.size();
+    if (m.size() != p) throw std::invalid_argument("the covariance matrix does not match its names");
+    c.matrix.resize(p, p);
+    for (size_t a = 0; a < p; ++a) {
+      if (m[a].size() != p) throw std::invalid_argument("the covariance matrix does not match its names");
+      for (size_t b = 0; b < p; ++b) c.matrix(a, b) = m[a][b].is_number() ? m[a][b].get<double>() : NAN;
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(std::string("prediction_covariance: ") + e.what());
+  }
+  return c;
+}
+
+PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep, const Eigen::VectorXd& x,
+                                                 const RowWeighting& weighting) {
+  const ErrorModelProblem& problem = *prep.problem;
+  const int p = problem.num_parameters();
+  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting);
+  PredictionCovariance c;
+  c.names = problem.ParameterNames();
+  c.sigma = ne.num_residuals > p ? std::sqrt(ne.irls_squares / (ne.num_residuals - p)) : NAN;
+  c.matrix = c.sigma * c.sigma * ScaledPseudoInverse(ne.JtJ);
+  if (!c.matrix.allFinite()) return c;
+  std::vector<int> columns(c.names.size());
+  for (size_t j = 0; j < columns.size(); ++j) columns[j] = static_cast<int>(j);
+  c.median_train_sd = Median(RowSd(problem, x, c.matrix, columns, problem.num_rows()));
+  return c;
+}
+
+std::vector<double> PredictionSd(const Robot& model, const Robot& controller, const Dataset& data,
+                                 const PredictionCovariance& covariance) {
+  if (data.rows.empty()) return {};
+  // The problem needs more residuals than parameters: a short dataset is repeated (each row's Jacobian
+  // depends only on the row and its previous pose, which the first copy keeps).
+  Dataset padded = data;
+  const size_t p = covariance.names.size() + 64;
+  while (padded.rows.size() * 3 <= p) padded.rows.insert(padded.rows.end(), data.rows.begin(), data.rows.end());
+  ErrorModelOptions options;
+  options.initialize_bases = false;
+  const ErrorModelProblem problem(model, controller, padded, options);
+  std::map<std::string, int> index;
+  for (size_t j = 0; j < covariance.names.size(); ++j) index[covariance.names[j]] = static_cast<int>(j);
+  std::vector<int> columns;
+  for (const std::string& name : problem.ParameterNames()) {
+    const auto it = index.find(name);
+    columns.push_back(it == index.end() ? -1 : it->second);
+  }
+  return RowSd(problem, problem.InitialX(), covariance.matrix, columns, static_cast<int>(data.rows.size()));
+}
+
+nlohmann::json UncertaintyCheck::ToJson() const {
+  return {{"rows", rows}, {"outside_support", outside_support}, {"coverage_3sigma", coverage}, {"coverage_3sigma_1d", coverage_1d}};
+}
+
+UncertaintyCheck CheckUncertainty(const std::vector<double>& errors, const std::vector<double>& sd,
+                                  const PredictionCovariance& covariance) {
+  UncertaintyCheck c;
+  c.rows = static_cast<int>(std::min(errors.size(), sd.size()));
+  int inside = 0, inside_1d = 0;
+  const double s2 = covariance.sigma * covariance.sigma;
+  for (int i = 0; i < c.rows; ++i) {
+    if (sd[i] > covariance.SupportThreshold()) ++c.outside_support;
+    if (errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + 3.0 * s2)) ++inside;
+    if (errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + s2)) ++inside_1d;
+  }
+  if (c.rows > 0) c.coverage = static_cast<double>(inside) / c.rows;
+  if (c.rows > 0) c.coverage_1d = static_cast<double>(inside_1d) / c.rows;
+  return c;
+}
+
+}  // namespace kincal

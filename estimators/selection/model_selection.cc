@@ -1,0 +1,115 @@
+#include "estimators/selection/model_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace kincal {
+
+bool ModelSelectionOptions::IsValid(std::string* why) const {
+  if (folds < 2) {
+    if (why) *why = "select_folds must be at least 2, got '" + std::to_string(folds) + "'";
+    return false;
+  }
+  return true;
+}
+
+void ModelSelectionOptions::Read(OptionsReader* reader) {
+  reader->Get("select", &select);
+  reader->Get("select_folds", &folds);
+}
+
+std::vector<SelectionCandidate> NestedCandidates(const Robot& start) {
+  const auto& terms = start.joint_errors.terms;
+  // Groups (type, joint) in the documented order: type as the enum orders them, then joint.
+  std::map<std::pair<int, int>, std::vector<int>> groups;
+  for (size_t t = 0; t < terms.size(); ++t) {
+    groups[{static_cast<int>(terms[t].type), terms[t].joint}].push_back(static_cast<int>(t));
+  }
+  std::vector<SelectionCandidate> out(1);
+  out[0].name = "geometry";
+  for (const auto& [key, members] : groups) {
+    SelectionCandidate c = out.back();
+    c.name = "+ " + JointErrorTerm::TypeName(static_cast<JointErrorTerm::Type>(key.first)) + " " +
+             std::to_string(key.second + 1);
+    c.terms.insert(c.terms.end(), members.begin(), members.end());
+    std::sort(c.terms.begin(), c.terms.end());
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+Robot CandidateRobot(const Robot& start, const SelectionCandidate& candidate) {
+  Robot robot = start;
+  robot.joint_errors.terms.clear();
+  for (int t : candidate.terms) robot.joint_errors.terms.push_back(start.joint_errors.terms[t]);
+  return robot;
+}
+
+std::vector<int> BlockedFolds(const Dataset& data, int folds) {
+  std::map<int, std::vector<int>> by_session;
+  for (size_t i = 0; i < data.rows.size(); ++i) by_session[data.rows[i].session].push_back(static_cast<int>(i));
+  std::vector<int> fold(data.rows.size(), 0);
+  for (const auto& [session, rows] : by_session) {
+    const size_t n = rows.size();
+    for (size_t j = 0; j < n; ++j) fold[rows[j]] = static_cast<int>(j * folds / n);
+  }
+  return fold;
+}
+
+int OneStandardErrorChoice(const std::vector<CandidateScore>& scores) {
+  int best = -1;
+  for (size_t c = 0; c < scores.size(); ++c) {
+    if (std::isfinite(scores[c].cv_rms) && (best < 0 || scores[c].cv_rms < scores[best].cv_rms)) {
+      best = static_cast<int>(c);
+    }
+  }
+  if (best < 0) return 0;
+  const double threshold = scores[best].cv_rms + scores[best].se;
+  for (size_t c = 0; c < scores.size(); ++c) {
+    if (std::isfinite(scores[c].cv_rms) && scores[c].cv_rms <= threshold) return static_cast<int>(c);
+  }
+  return best;
+}
+
+nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int folds) {
+  nlohmann::json j;
+  j["folds"] = folds;
+  j["rule"] = "one standard error (ESL 7.10): the simplest candidate within one se of the best CV RMS";
+  j["unit"] = "mm";
+  j["candidates"] = nlohmann::json::array();
+  for (const auto& s : scores) {
+    nlohmann::json c;
+    c["candidate"] = s.name;
+    c["parameters"] = s.num_parameters;
+    c["cv_rms_mm"] = s.cv_rms * 1e3;
+    c["se_mm"] = s.se * 1e3;
+    std::vector<double> f;
+    for (double r : s.fold_rms) f.push_back(r * 1e3);
+    c["fold_rms_mm"] = f;
+    c["chosen"] = s.chosen;
+    j["candidates"].push_back(c);
+  }
+  return j;
+}
+
+std::string SelectionTable(const nlohmann::json& selection) {
+  std::ostringstream out;
+  char line[200];
+  std::snprintf(line, sizeof line, "  model selection, %d-fold blocked CV, one-standard-error rule:\n",
+                selection.value("folds", 0));
+  out << line;
+  std::snprintf(line, sizeof line, "  %-22s %10s %22s  %s\n", "candidate", "parameters", "CV RMS +- se (mm)", "chosen");
+  out << line;
+  for (const auto& c : selection.at("candidates")) {
+    std::snprintf(line, sizeof line, "  %-22s %10d %12.4f +- %6.4f  %s\n", c.at("candidate").get<std::string>().c_str(),
+                  c.at("parameters").get<int>(), c.at("cv_rms_mm").get<double>(), c.at("se_mm").get<double>(),
+                  c.at("chosen").get<bool>() ? "*" : "");
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace kincal

@@ -1,0 +1,16 @@
+#pragma once
+// The error-model estimators' `select: true` (model_selection.h for the candidates, the folds, the score
+// and the rule): scores every nested candidate by blocked K-fold cross-validation on `data` (the training
+// rows), then fits the chosen one on all of them with the estimator's own minimiser. The report is the
+// final fit's, with details.selection (the table) and the candidate's name in the message.
+#include <string>
+
+#include "estimators/error_model/error_model_estimation.h"
+
+namespace kincal {
+
+void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
+                      const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
+                      const Dataset& data, Robot* identified, EstimationReport* report);
+
+}  // namespace kincal

@@ -1,0 +1,3 @@
+#include "framework/svd.h"
+
+template class Eigen::JacobiSVD<Eigen::MatrixXd>;

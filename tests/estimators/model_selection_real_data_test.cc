@@ -1,0 +1,100 @@
+// Model selection and prediction uncertainty on real data (estimators/selection/model_selection.h,
+// estimators/error_model/prediction_uncertainty.h). Even rows fit, odd rows scored, in measurement order.
+//   ur10_ipa2021 series D (632 ISO-cube poses; ur10_dh.yaml with a 100 mm tool and the richest file:
+//   gravity 2-5, harmonic 1 and 2, backlash and approach on every joint): every richer model predicts the
+//   odd rows worse than geometry (issue figures: geometry 0.401 mm, + gravity 2, 3 1.83 mm, full 1.42 mm),
+//   so selection must not pick one: held-out RMS <= 1.05 x the best of geometry, + gravity 2..5 and the
+//   full file, never above geometry, max <= 1.5 x geometry's.
+//   irb120_faro reflector 1 (irb120_joint_errors.yaml: gravity 2-5, approach 1-6): richer is right here;
+//   the selected model within 3 % of the full file's held-out RMS.
+// On both, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).
+// Skipped when the data folder is absent.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
+#include "robot/prediction.h"
+#include "tests/estimators/irb120_faro.h"
+#include "tests/estimators/irb120_wu2015.h"
+#include "tests/estimators/ur10_ipa2021.h"
+#include "tests/support/test_util.h"
+
+namespace kincal::testing {
+namespace {
+
+struct Scored {
+  double rms = NAN, max = NAN, coverage = NAN;
+  std::string chosen;
+};
+
+Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test, bool select) {
+  YAML::Node options;
+  options["max_iterations"] = 200;
+  if (select) options["select"] = true;
+  Robot identified;
+  const EstimationReport report = Estimators().Create("least_squares", options)->Estimate(start, train, &identified);
+  const PredictionErrors e = EvaluatePredictions(start, identified, test);
+  Scored s;
+  s.rms = e.position_stats.rms;
+  s.max = e.position_stats.max;
+  const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+  s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov).coverage;
+  if (select) {
+    for (const auto& c : report.details.at("selection").at("candidates")) {
+      if (c.at("chosen").get<bool>()) s.chosen = c.at("candidate").get<std::string>();
+    }
+  }
+  return s;
+}
+
+TEST(ModelSelectionRealData, Ur10SeriesDKeepsGeometry) {
+  Dataset all, train, test;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_D/measurements_iso_cubes.csv"), &all),
+                                  "no ../shared/data/ur10_ipa2021");
+  SplitEvenOdd(all, &train, &test);
+  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
+  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
+  double best = geometry.rms;
+  for (int groups : {1, 2, 3, 4, 22}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
+  std::printf("series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+              "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
+              best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.05 * best);
+  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
+  EXPECT_LE(selected.max, 1.5 * geometry.max);
+  EXPECT_GE(selected.coverage, 0.95);
+}
+
+TEST(ModelSelectionRealData, Irb120FaroKeepsTheRichModel) {
+  Dataset all, train, test;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  SplitEvenOdd(all, &train, &test);
+  Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
+  rich.markers.clear();  // reflector 1 is the tool origin
+  const Scored selected = FitAndScore(rich, train, test, true);
+  const Scored full = FitAndScore(rich, train, test, false);
+  rich.joint_errors.terms.clear();
+  const Scored geometry = FitAndScore(rich, train, test, false);
+  std::printf("irb120_faro SMR1: selected %s, held-out RMS %.4f mm (full file %.4f, geometry %.4f); coverage %.3f\n",
+              selected.chosen.c_str(), selected.rms * 1e3, full.rms * 1e3, geometry.rms * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.03 * full.rms);
+  EXPECT_LT(selected.rms, 0.6 * geometry.rms);
+  EXPECT_GE(selected.coverage, 0.95);
+}
+
+// irb120_wu2015: calibrated on the 36 x 3 points, test set 1 scored as calibration point 1 (within
+// 0.15 mm of it; test set 2's point is 1.2 mm away and needs fitting, so it does not check (1)).
+TEST(PredictionUncertaintyRealData, Irb120Wu2015Coverage) {
+  Irb120Wu2015 wu;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu), "no ../shared/data/irb120_wu2015");
+  Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
+  for (const std::string id : {"p1", "p2", "p3"}) nominal.markers[id] = Eigen::Vector3d::Zero();
+  const Scored s = FitAndScore(nominal, wu.calibration, wu.test1, false);
+  std::printf("irb120_wu2015 test set 1: held-out RMS %.4f mm; coverage %.3f\n", s.rms * 1e3, s.coverage);
+  EXPECT_GE(s.coverage, 0.95);
+}
+
+}  // namespace
+}  // namespace kincal::testing
