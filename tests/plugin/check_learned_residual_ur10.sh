@@ -40,6 +40,6 @@ with open(sys.argv[1]) as f:
 names = ["geometry", "geometry+residual", "gravity", "gravity+residual"]
 assert all(n in rms and len(rms[n]) > 100 for n in names), {k: len(v) for k, v in rms.items()}
 r = {n: math.sqrt(sum(e * e for e in rms[n]) / len(rms[n])) for n in names}
-print("held-out RMS (mm):", {n: round(v, 4) for n, v in r.items()})
+print("held-out RMS (mm):", {n: round(math.sqrt(sum(e * e for e in v) / len(v)), 4) for n, v in rms.items()})
 assert r["geometry+residual"] < r["geometry"], r
 PY
