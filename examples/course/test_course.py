@@ -191,3 +191,14 @@ def test_09_overfitting(tmp_path):
     selected = dict(re.findall(r"^\s*(\d+) poses, select: true chooses (.+) \(\d+ parameters\) among 7 nested", out, re.M))
     assert selected["40"] == "geometry", out
     assert selected["400"].startswith("+ harmonic ") and int(selected["400"].split()[-1]) >= 3, out
+
+
+def test_10_filtering_a_program(tmp_path):
+    out = run("10_filtering_a_program", tmp_path)
+    assert "urscript: 5 Cartesian and 1 joint targets; 6 filtered, 0 kept as written" in out, out
+    rows = numbers(r"target \d: written (\S+) mm away; real arm off by (\S+) mm unfiltered, (\S+) mm filtered", out)
+    assert len(rows) == 5, out
+    for moved, before, after in rows:
+        # Up to 1 mm and 0.1 deg per parameter leave millimetres; the filter moves each target by about as much
+        # (to first order exactly the error), and the controller then puts the real arm on the original target.
+        assert 1 < before < 10 and abs(moved - before) < 0.1 * before and after < 1e-6, out
