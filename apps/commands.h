@@ -18,5 +18,6 @@ void AddDemoCommand(CLI::App& app);
 void AddPredictCommand(CLI::App& app);
 void AddImportCommand(CLI::App& app);
 void AddIkCommand(CLI::App& app);
+void AddFilterCommand(CLI::App& app);
 
 }  // namespace kincal::app

@@ -3,6 +3,8 @@
 // Targets: x_mm,y_mm,z_mm (or _m), optionally qw,qx,qy,qz (without them: position-only targets) and
 // optionally the controller's nominal solution q1_deg..qN_deg (or _rad) as seeds; without seeds the
 // nominal inverse kinematics is solved per target (seed_computed = 1).
+// Targets are in the measurement frame (the identified robot's), or with --frame base in the robot's base
+// frame, the controller's (the frame contract, compensators/compensator.h).
 // Output, one row per target in the same order (DESIGN.md "File contracts"): q1..qN in the targets' angle
 // unit (the robot file's without seed columns) = the joints to command to a controller that converts
 // with the nominal ratios; enc1..encN when the robots have drives; status, iterations, position_error
@@ -27,7 +29,7 @@ namespace kincal::app {
 void AddCompensateCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
   struct Args {
-    std::string nominal, identified, targets, method, options, out;
+    std::string nominal, identified, targets, method, options, out, frame = "meas";
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")->required();
@@ -37,6 +39,9 @@ void AddCompensateCommand(CLI::App& app) {
   cmd->add_option("--method", a->method, "compensator (see kincal methods)")->required();
   cmd->add_option("--options", a->options, "the compensator's options (YAML)");
   cmd->add_option("--out", a->out, "joints to write (CSV)")->required();
+  cmd->add_option("--frame", a->frame,
+                  "frame of the targets: meas (the measurement frame, default) or base (the robot's base frame)")
+      ->check(CLI::IsMember({"meas", "base"}));
   cmd->callback([a]() {
     using Clock = std::chrono::steady_clock;
     const auto seconds = [](Clock::time_point from, Clock::time_point to) {
@@ -47,7 +52,11 @@ void AddCompensateCommand(CLI::App& app) {
     const Robot identified = ReadRobotFile(a->identified);
     Compensators().Get(a->method);  // an unknown name fails before any work
     const Dataset data = ReadDataset(a->targets);
-    const std::vector<CompensationTarget> targets = CompensationTargetsFrom(data, nominal.dof());
+    std::vector<CompensationTarget> targets = CompensationTargetsFrom(data, nominal.dof());
+    if (a->frame == "base") {
+      const Robot controller = ControllerRobot(nominal, identified);
+      for (CompensationTarget& t : targets) t.T_meas_tool = TargetFromBaseFrame(controller, t.T_meas_tool);
+    }
     std::unique_ptr<Compensator> compensator =
         NamingFile(a->options, [&] { return Compensators().Create(a->method, LoadYamlFile(a->options)); });
     const auto t_read = Clock::now();

@@ -32,7 +32,7 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   if (nominal.drives.has_value() != identified.drives.has_value()) {
     throw std::invalid_argument("compensate: give drives in both robot files or in neither");
   }
-  nominal_ = nominal;
+  nominal_ = ControllerRobot(nominal, identified);
   identified_ = identified;
   // The controller's solution is only a seed here: where the closed form has none (a target the nominal
   // arm does not reach), one damped Newton run from the reference is enough, and the restarts that find
@@ -42,6 +42,18 @@ void Compensator::Prepare(const Robot& nominal, const Robot& identified) {
   nominal_ik_ = std::make_shared<const NominalInverseKinematics>(nominal_, ik_options);
   prepared_ = true;
   DoPrepare();
+}
+
+Robot ControllerRobot(const Robot& nominal, const Robot& identified) {
+  Robot controller = nominal;
+  const auto is_identity = [](const Eigen::Isometry3d& T) { return T.matrix() == Eigen::Matrix4d::Identity(); };
+  if (is_identity(nominal.model().base())) controller.model().SetBase(identified.model().base());
+  if (is_identity(nominal.model().tool())) controller.model().SetTool(identified.model().tool());
+  return controller;
+}
+
+Eigen::Isometry3d TargetFromBaseFrame(const Robot& controller, const Eigen::Isometry3d& T_base_tool) {
+  return controller.model().base() * T_base_tool;
 }
 
 bool BranchRestartOptions::IsValid(std::string* why) const {

@@ -5,6 +5,24 @@
 // target. Compensate() is the non-virtual entry point: it validates, computes a seed when the target
 // has none, times, converts the desired actual angles into commands (ratios), and guarantees that no NaN
 // leaves it.
+//
+// The frame contract (every compensator, the nominal inverse kinematics they seed from, `kincal
+// compensate` and `kincal filter` follow it; the studies' compensators too, while their validation seeds
+// are still the nominal file's own inverse kinematics, studies/validation.cc):
+//  - Targets are poses of the tool in the measurement frame (the tracker's), T_meas_tool. A caller whose
+//    targets are in the robot's base frame (a robot program, `--frame base`) moves them by the
+//    controller's base: T_meas_tool = T_meas_base * T_base_tool (TargetFromBaseFrame below).
+//  - The identified robot is the arm as calibrated, in the measurement frame: its base T_meas_base and
+//    tool T_flange_tool are the ones the calibration registered.
+//  - The controller is the nominal file's joint geometry placed by that base and tool:
+//        T_meas_tool^controller(q) = T_meas_base * T_base_flange^nominal(q) * T_flange_tool
+//    (ControllerRobot below). A nominal file says otherwise by giving a base or a tool of its own (not
+//    the identity): that one is the controller's (a cell whose work object and tool data were set up
+//    from another measurement). Nominal files describe the arm alone (base and tool identity), so by
+//    default the controller stands where the calibration found the arm. Prepare() applies this: nominal()
+//    below, the seeds computed for targets without one and the branch restarts all use the controller.
+//  - A seed (the controller's joint solution) is therefore the controller's inverse kinematics of the
+//    target in this frame; a joint target (`filter`) is a seed.
 #include <memory>
 #include <string>
 #include <vector>
@@ -89,11 +107,13 @@ class Compensator {
   virtual std::string name() const = 0;
 
   // Offline stage. `nominal` is what the controller believes (its IK and ratios), `identified` what the
-  // arm really is. Throws std::invalid_argument if the two differ in joint count.
+  // arm really is; the controller is ControllerRobot(nominal, identified) (the frame contract). Throws
+  // std::invalid_argument if the two differ in joint count.
   void Prepare(const Robot& nominal, const Robot& identified);
   CompensationResult Compensate(const CompensationTarget& target) const;
 
  protected:
+  // The controller: ControllerRobot(nominal, identified) of Prepare().
   const Robot& nominal() const { return nominal_; }
   const Robot& identified() const { return identified_; }
   // Iterative methods return their restart options: a target they do not reach from the seed is retried
@@ -121,6 +141,13 @@ class Compensator {
   std::shared_ptr<const NominalInverseKinematics> nominal_ik_;
   bool prepared_ = false;
 };
+
+// The controller of the frame contract (top of this file): `nominal` with, for each of base and tool that
+// it gives as the identity, the identified robot's. Everything else (joints, limits, drives) is the
+// nominal file's.
+Robot ControllerRobot(const Robot& nominal, const Robot& identified);
+// T_meas_tool of a target given in the robot's base frame, the controller's base.
+Eigen::Isometry3d TargetFromBaseFrame(const Robot& controller, const Eigen::Isometry3d& T_base_tool);
 
 using CompensatorRegistry = Registry<Compensator>;
 // Every compensator kincal knows (defined in compensators/builtin.cc).

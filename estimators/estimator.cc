@@ -45,7 +45,9 @@ nlohmann::json EstimationReport::ToJson() const {
   nlohmann::json params = nlohmann::json::array();
   for (const auto& p : parameters) {
     params.push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", Number(p.nominal)}, {"value", Number(p.value)},
-                      {"stddev", Number(p.stddev)}, {"free", p.free}, {"note", p.note}});
+                      {"stddev", Number(p.stddev)}, {"free", p.free}, {"note", p.note},
+                      {"prior_sd", Number(p.prior_sd)}, {"data_sd", Number(p.data_sd)},
+                      {"data_share", Number(p.data_share)}, {"weak", p.weak}});
   }
   j["parameters"] = params;
   j["fixed_parameters"] = fixed_parameters;

@@ -25,6 +25,11 @@ struct ParameterEstimate {
   double stddev = NAN;     // standard deviation, NaN when the estimator cannot give one
   bool free = true;        // estimated (false: held at its input value)
   std::string note;        // e.g. "fixed: not identifiable from this data"
+  // Error-model estimators with priors (estimators/error_model/error_model_problem.h, PriorOptions):
+  double prior_sd = NAN;   // the prior's standard deviation, NaN without a prior
+  double data_sd = NAN;    // the standard deviation the data alone give (no prior), NaN when not computed
+  double data_share = NAN; // share of the information from the data: 1 - stddev^2 / prior_sd^2 (1 without prior)
+  bool weak = false;       // weakly identifiable: data_sd above the prior's (or its kind's default) sd
 };
 
 struct EstimationReport {

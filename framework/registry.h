@@ -74,6 +74,8 @@ class OptionsReader {
   // An angle in degrees in the file, radians in *value.
   void GetAngleDeg(const std::string& key, double* value);
   const YAML::Node& node() const { return node_; }
+  // For keys a caller parses itself from node() (maps): marks `key` read for Finish().
+  void MarkRead(const std::string& key) { read_.push_back(key); }
   // Throws for any key not read by a Get call. Call last.
   void Finish() const;
   [[noreturn]] void Fail(const std::string& key, const std::string& what) const;

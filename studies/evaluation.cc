@@ -12,6 +12,7 @@
 #include "framework/math.h"
 #include "framework/pose_tables.h"
 #include "robot/prediction.h"
+#include "studies/measured_iso9283.h"
 #include "framework/random.h"
 
 namespace kincal {
@@ -462,6 +463,28 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
       AddPredictionSd(reports, identified, d.nominal, test, &result.heldout);
     }
     result.rows.push_back(row);
+    if (spec.iso9283) {  // the test rows' repeated poses, and the prediction errors at their visits
+      EvaluationRow iso = row;
+      iso.validation = "iso9283";
+      iso.targets = iso.converged = 0;
+      iso.position = iso.orientation = ErrorSummary();
+      if (result.estimation_status != "error") {
+        const PredictionErrors e = EvaluatePredictions(d.nominal, identified, test);
+        const bool all_oriented = e.orientation.size() == test.rows.size();
+        std::vector<double> position, orientation;
+        for (const MeasuredIsoPose& p : MeasuredIso9283(d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
+          iso.iso.push_back({p.pose, p.stats});
+          for (int r : p.rows) {
+            position.push_back(e.position[r]);
+            if (all_oriented) orientation.push_back(e.orientation[r]);
+          }
+        }
+        iso.targets = iso.converged = static_cast<int>(position.size());
+        iso.position = SummarizeErrors(position);
+        iso.orientation = SummarizeErrors(orientation);
+      }
+      result.rows.push_back(iso);
+    }
     return result;
   }
   Evaluate(item, d, identified, status, result.estimation_note, &result);

@@ -157,7 +157,7 @@ void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std:
 void IsoTable(std::ostream& o, const ReportData& data, int variant, const std::string& validation) {
   const ResultTable& t = data.tables().iso9283;
   const std::vector<MethodPair> pairs = MethodPairs(data, variant, validation);
-  o << "ISO 9283 pose accuracy AP and repeatability RP at P1..P5 (the largest over the five poses; mean ± std over "
+  o << "ISO 9283 pose accuracy AP and repeatability RP at the poses P1, P2, ... (the largest over them; mean ± std over "
        "trials). AP_P: distance from the commanded position to the mean attained one; RP_l = mean distance to "
        "the barycentre + 3 S_l; orientation: largest of the a, b, c components.\n\n";
   Header(o, {"method", "AP_P (mm)", "RP_l (mm)", "AP orientation (deg)", "RP orientation (deg)"},
@@ -364,8 +364,13 @@ void WriteReport(const std::string& dir) {
     for (const auto& validation : data.Validations(v)) {
       if (data.IsIso(validation)) {
         o << "### ISO 9283: " << Cell(validation) << "\n\n";
+        if (!var.simulated) {
+          o << "Measured: the test rows' poses visited at least twice, numbered P1, P2, ... by first visit; the "
+               "commanded pose in the instrument's frame is where each model puts it (studies/measured_iso9283.h), "
+               "so AP is the accuracy left after compensating with that model and RP is the arm's own.\n\n";
+        }
         IsoTable(o, data, v, validation);
-        o << "Errors at P1..P5 themselves (no noise):\n\n";
+        o << (var.simulated ? "Errors at P1..P5 themselves (no noise):\n\n" : "Prediction errors at every visit of those poses:\n\n");
       } else {
         o << "### Validation " << Cell(validation) << "\n\n";
       }

@@ -64,8 +64,11 @@ ReportData::ReportData(const std::string& dir) : dir_(dir) {
     ThrowInputError(dir + ": holds shard " + manifest_.value("shard", "") + " of a study; combine the shards with kincal merge");
   }
   tables_ = ReadStudyTables(dir);
-  std::map<std::string, bool> simulated;
-  for (const auto& d : manifest_.at("datasets")) simulated[d.at("name").get<std::string>()] = d.at("simulated").get<bool>();
+  std::map<std::string, bool> simulated, iso;
+  for (const auto& d : manifest_.at("datasets")) {
+    simulated[d.at("name").get<std::string>()] = d.at("simulated").get<bool>();
+    iso[d.at("name").get<std::string>()] = d.value("iso9283", false);
+  }
   for (const auto& v : manifest_.at("variants")) {
     Variant x;
     x.dataset = v.at("dataset").get<std::string>();
@@ -76,6 +79,7 @@ ReportData::ReportData(const std::string& dir) : dir_(dir) {
       x.knob_text = FormatResultNumber(x.knob_value);
     }
     x.simulated = simulated[x.dataset];
+    x.iso9283 = iso[x.dataset];
     variant_index_[x.dataset + "|" + x.knob_text] = static_cast<int>(variants_.size());
     variants_.push_back(x);
   }
@@ -94,7 +98,10 @@ std::vector<std::string> ReportData::Compensators() const {
 }
 
 std::vector<std::string> ReportData::Validations(int variant) const {
-  if (!variants_[variant].simulated) return {"heldout"};
+  if (!variants_[variant].simulated) {
+    if (variants_[variant].iso9283) return {"heldout", "iso9283"};
+    return {"heldout"};
+  }
   std::vector<std::string> out;
   for (const auto& v : manifest_.at("validation")) out.push_back(v.at("name").get<std::string>());
   return out;
@@ -104,6 +111,7 @@ bool ReportData::IsIso(const std::string& validation) const {
   for (const auto& v : manifest_.at("validation")) {
     if (v.at("name") == validation) return v.at("kind") == "iso9283";
   }
+  if (validation == "iso9283") return true;  // measured data's ISO 9283 rows
   return false;
 }
 

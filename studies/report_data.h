@@ -32,6 +32,7 @@ class ReportData {
     std::string knob_text;   // knob_value as the tables write it
     double knob_value = 0.0;
     bool simulated = true;
+    bool iso9283 = false;    // measured data scored by ISO 9283 too (validation "iso9283")
   };
 
   const std::string& dir() const { return dir_; }

@@ -36,6 +36,10 @@
 //       file: ../data/tracker.csv  # measured data (kincal dataset CSV); scored on its test rows
 //       split: {test_fraction: 0.3}   # or {every: 3} (every 3rd pose is a test pose) or column (the
 //                                  # file's `split` column); a fraction draws new rows each trial
+//       iso9283: {tolerance: 0.2mm, angle_tolerance: 0.1, min_cycles: 2}   # optional, measured data:
+//                                  # ISO 9283 AP and RP of the test rows' repeated poses: rows whose
+//                                  # controller poses lie within the tolerances (length; deg) are visits of
+//                                  # one commanded pose (studies/measured_iso9283.h)
 //     - name: faro                 # measured data as whitespace tables (tracker and controller exports)
 //       tables:                    # row i of every table is pose i, in measurement order
 //         joints: ../data/joints.txt           # one column per joint (controller readings)
@@ -118,6 +122,12 @@ struct DatasetSpec {
   Split split = Split::kColumn;
   double test_fraction = 0.0;
   int every = 0;
+  // Measured data: ISO 9283 of the test rows' repeated poses (studies/measured_iso9283.h), validation
+  // "iso9283" of compensator "-".
+  bool iso9283 = false;
+  double iso_tolerance = 0.2e-3;                    // m
+  double iso_angle_tolerance = 0.1 * M_PI / 180.0;  // rad
+  int iso_min_cycles = 2;
   std::string summary;              // one line for the report
 };
 

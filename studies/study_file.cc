@@ -315,7 +315,7 @@ void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key,
 }
 
 DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::string& key, int dof) {
-  r.CheckKeys(node, key, {"name", "simulate", "vary", "file", "tables", "split"});
+  r.CheckKeys(node, key, {"name", "simulate", "vary", "file", "tables", "split", "iso9283"});
   DatasetSpec d;
   if (!node["name"]) r.Fail(node, key, "missing key 'name'");
   d.name = r.Name(node["name"], key + ".name");
@@ -325,6 +325,7 @@ DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::
   if (node["simulate"]) {
     ReadSimulator(r, node["simulate"], key + ".simulate", dof, &d);
     if (node["split"]) r.Fail(node["split"], key + ".split", "a split applies to measured data ('file', 'tables') only");
+    if (node["iso9283"]) r.Fail(node["iso9283"], key + ".iso9283", "on simulated data, ISO 9283 is a validation set");
     if (node["vary"]) ReadVary(r, node["vary"], key + ".vary", &d);
     return d;
   }
@@ -340,6 +341,17 @@ DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::
     ReadTables(r, node["tables"], key + ".tables", &d);
   }
   ReadSplit(r, node, key, &d);
+  if (const YAML::Node iso = node["iso9283"]) {
+    const std::string ik = key + ".iso9283";
+    d.iso9283 = true;
+    if (!iso.IsNull()) r.CheckKeys(iso, ik, {"tolerance", "angle_tolerance", "min_cycles"});
+    if (iso["tolerance"]) d.iso_tolerance = r.Length(iso["tolerance"], ik + ".tolerance");
+    if (!(d.iso_tolerance > 0)) r.Fail(iso["tolerance"], ik + ".tolerance", "expected a length > 0");
+    if (iso["angle_tolerance"]) d.iso_angle_tolerance = r.Number(iso["angle_tolerance"], ik + ".angle_tolerance") * M_PI / 180.0;
+    if (!(d.iso_angle_tolerance > 0)) r.Fail(iso["angle_tolerance"], ik + ".angle_tolerance", "expected an angle > 0 (deg)");
+    if (iso["min_cycles"]) d.iso_min_cycles = r.Integer(iso["min_cycles"], ik + ".min_cycles", 2);
+    d.summary += ", ISO 9283 of the test rows' poses visited at least " + std::to_string(d.iso_min_cycles) + " times";
+  }
   return d;
 }
 

@@ -1,5 +1,6 @@
 #include "estimators/ceres/error_model_cost.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -54,6 +55,34 @@ bool ErrorModelRowCost::Evaluate(double const* const* parameters, double* residu
   return true;
 }
 
+namespace {
+
+// The priors of one parameter block: residual k = noise (x_j - mu_j) / sd_j for each parameter j of the
+// block with a prior (normal_equations.h, AddPriorTerms), so that Ceres' 1/2 sum r^2 matches the cost.
+class PriorCost final : public ceres::CostFunction {
+ public:
+  PriorCost(int block_size, std::vector<int> index, std::vector<double> mean, std::vector<double> scale)
+      : index_(std::move(index)), mean_(std::move(mean)), scale_(std::move(scale)) {
+    set_num_residuals(static_cast<int>(index_.size()));
+    mutable_parameter_block_sizes()->push_back(block_size);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int m = static_cast<int>(index_.size()), n = parameter_block_sizes()[0];
+    for (int k = 0; k < m; ++k) residuals[k] = scale_[k] * (parameters[0][index_[k]] - mean_[k]);
+    if (jacobians && jacobians[0]) {
+      std::fill(jacobians[0], jacobians[0] + m * n, 0.0);
+      for (int k = 0; k < m; ++k) jacobians[0][k * n + index_[k]] = scale_[k];
+    }
+    return true;
+  }
+
+ private:
+  std::vector<int> index_;
+  std::vector<double> mean_, scale_;
+};
+
+}  // namespace
+
 CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeighting& weighting,
                                  const Eigen::VectorXd& x0)
     : problem_(problem), x_(x0), pool_(problem) {
@@ -91,6 +120,21 @@ CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeig
       loss = scaled_.back().get();
     }
     ceres_problem_->AddResidualBlock(new ErrorModelRowCost(problem, i, std::move(row_blocks), &pool_), loss, pointers);
+  }
+  const double noise = problem.prior_noise();
+  for (size_t b = 0; noise > 0.0 && b < blocks.size(); ++b) {
+    std::vector<int> index;
+    std::vector<double> mean, scale;
+    for (int j = 0; j < blocks[b].size; ++j) {
+      const ErrorModelParameter& q = problem.parameters()[blocks[b].offset + j];
+      if (!(q.prior_sd > 0.0)) continue;
+      index.push_back(j);
+      mean.push_back(q.prior_mean);
+      scale.push_back(noise / q.prior_sd);
+    }
+    if (index.empty()) continue;
+    ceres_problem_->AddResidualBlock(new PriorCost(blocks[b].size, std::move(index), std::move(mean), std::move(scale)),
+                                     nullptr, block(static_cast<int>(b)));
   }
 }
 

@@ -18,26 +18,40 @@ nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 namespace {
 
 // Builds the problem with every structurally free parameter from prep->start, analyses identifiability
-// at its start and holds what the data cannot determine.
+// at its start (the data alone) and holds what the data cannot determine, then prep->weak_held. Prior
+// means and noise come from `previous` (the problem this one replaces) or, for the first, from the
+// options (prior_noise; when estimated, the RMS per residual of the registered start to begin with).
 void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
-                    const RowWeighting& weighting, PreparedErrorModel* prep) {
+                    const RowWeighting& weighting, PreparedErrorModel* prep, const ErrorModelProblem* previous) {
   const ErrorModelProblem structural(prep->start, controller, data, options);
-  const NormalEquations ne = AccumulateNormalEquations(structural, structural.InitialX(), weighting);
+  const NormalEquations ne =
+      AccumulateNormalEquations(structural, structural.InitialX(), weighting, Accumulate::kNormalEquations, false);
   prep->identifiability = AnalyzeIdentifiability(structural, ne.JtJ, ne.num_rows, options.identifiability_tolerance);
   const IdentifiabilityAnalysis& a = prep->identifiability;
   ErrorModelProblem held = structural;
-  for (size_t k = 0; k < a.unidentifiable.size(); ++k) {
-    // Hold one at a time, each with its reason: indices refer to `structural`, so map each by name.
+  const auto hold = [&](const std::string& name, const std::string& reason) {
     const auto names = held.ParameterNames();
-    const int index = static_cast<int>(std::find(names.begin(), names.end(), a.unidentifiable_names[k]) - names.begin());
-    held = held.Hold({index}, a.reasons[k], true);
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) held = held.Hold({static_cast<int>(it - names.begin())}, reason, true);
+  };
+  // One at a time, each with its reason: indices refer to `structural`, so map each by name.
+  for (size_t k = 0; k < a.unidentifiable.size(); ++k) hold(a.unidentifiable_names[k], a.reasons[k]);
+  for (const auto& [name, reason] : prep->weak_held) hold(name, reason);
+  if (previous) {
+    held.InheritPriors(*previous);
+  } else {
+    held.set_prior_noise(options.prior.noise > 0.0 ? options.prior.noise
+                         : ne.num_residuals > 0 ? std::sqrt(ne.irls_squares / ne.num_residuals)
+                                                : 0.0);
   }
   prep->problem = std::make_unique<ErrorModelProblem>(held);
-  // The normal equations at the start, restricted to the identifiable columns (same x, same rows): the
-  // held problem lists the structural problem's parameters in the same order, minus the held ones.
+  // The normal equations at the start, restricted to the free columns (same x, same rows): the held
+  // problem lists the structural problem's parameters in the same order, minus the held ones.
   NormalEquations& initial = prep->initial;
   initial = ne;
-  const std::vector<int>& keep = a.identifiable;
+  const auto all = structural.ParameterNames();
+  std::vector<int> keep;
+  for (const auto& name : held.ParameterNames()) keep.push_back(static_cast<int>(std::find(all.begin(), all.end(), name) - all.begin()));
   const int p = static_cast<int>(keep.size());
   initial.JtJ.resize(p, p);
   initial.Jtr.resize(p);
@@ -45,6 +59,26 @@ void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorMod
     initial.Jtr[i] = ne.Jtr[keep[i]];
     for (int j = 0; j < p; ++j) initial.JtJ(i, j) = ne.JtJ(keep[i], keep[j]);
   }
+  AddPriorTerms(*prep->problem, prep->problem->InitialX(), &initial);
+}
+
+// A prep at `solution` with prep's history (input, placement, warnings, weak holds).
+PreparedErrorModel RebuiltAt(const Eigen::VectorXd& solution, const RowWeighting& weighting,
+                             const PreparedErrorModel& prep) {
+  const ErrorModelProblem& old = *prep.problem;
+  Robot at_solution;
+  old.WriteToRobot(solution, &at_solution);
+  PreparedErrorModel next;
+  next.input = prep.input;
+  next.start = at_solution;
+  next.warnings = prep.warnings;
+  next.placement_notes = prep.placement_notes;
+  next.placed = prep.placed;
+  next.registered_rms = prep.registered_rms;
+  next.weak = prep.weak;
+  next.weak_held = prep.weak_held;
+  AnalyzeAndHold(old.controller(), old.data(), old.options(), weighting, &next, &old);
+  return next;
 }
 
 }  // namespace
@@ -65,25 +99,18 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   // Validates everything (throws) before the registration runs on the data.
   { const ErrorModelProblem check(prep.input, controller, data, options); }
   const StartPlacement placement = PlaceStart(controller, data, options, &prep.start);
-  prep.warnings = placement.warnings;
+  for (const std::string& w : placement.warnings) {
+    (w.find("too little to place the markers") != std::string::npos ? prep.placement_notes : prep.warnings).push_back(w);
+  }
   prep.placed = placement.placed;
-  AnalyzeAndHold(controller, data, options, weighting, &prep);
+  AnalyzeAndHold(controller, data, options, weighting, &prep, nullptr);
   prep.registered_rms = prep.initial.PositionRms();
   return prep;
 }
 
 bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
                               PreparedErrorModel* prep, Eigen::VectorXd* x) {
-  const ErrorModelProblem& old = *prep->problem;
-  Robot at_solution;
-  old.WriteToRobot(solution, &at_solution);
-  PreparedErrorModel next;
-  next.input = prep->input;
-  next.start = at_solution;
-  next.warnings = prep->warnings;
-  next.placed = prep->placed;
-  next.registered_rms = prep->registered_rms;
-  AnalyzeAndHold(old.controller(), old.data(), old.options(), weighting, &next);
+  PreparedErrorModel next = RebuiltAt(solution, weighting, *prep);
   if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
     *x = solution;
     return false;
@@ -102,6 +129,60 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
   *prep = std::move(next);
   *x = prep->problem->InitialX();
   return true;
+}
+
+void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
+               PreparedErrorModel* prep, Eigen::VectorXd* x) {
+  prep->problem->set_prior_noise(prior_noise);
+  *prep = RebuiltAt(solution, weighting, *prep);
+  *x = prep->problem->InitialX();
+}
+
+double DataSigma(const NormalEquations& ne, int p) {
+  const int dof = ne.num_residuals - p;
+  return dof > 0 ? std::sqrt(ne.irls_squares / dof) : NAN;
+}
+
+bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
+                        Eigen::VectorXd* x) {
+  *x = solution;
+  const ErrorModelProblem& problem = *prep->problem;
+  const NormalEquations ne = AccumulateNormalEquations(problem, solution, weighting, Accumulate::kNormalEquations, false);
+  const double sigma = DataSigma(ne, problem.num_parameters());
+  if (!(sigma > 0.0)) return false;
+  std::vector<WeakParameter> weak;
+  const std::vector<int> hold = ChooseWeakToHold(problem, ne.JtJ, sigma, &weak);
+  for (const auto& w : weak) {
+    const bool known = std::any_of(prep->weak.begin(), prep->weak.end(), [&](const WeakParameter& v) { return v.name == w.name; });
+    if (!known) prep->weak.push_back(w);
+  }
+  if (hold.empty()) return false;
+  Eigen::VectorXd restart = solution;
+  for (int i : hold) {
+    restart[i] = problem.parameters()[i].prior_mean;  // held at the start value, not where it drifted
+    const std::string& name = problem.parameters()[i].name;
+    std::string reason = "weakly identifiable, held at its start value (no prior): ";
+    for (const auto& w : weak) {
+      if (w.name == name) reason += w.Describe();
+    }
+    prep->weak_held.emplace_back(name, reason);
+  }
+  RestartAt(restart, weighting, problem.prior_noise(), prep, x);
+  return true;
+}
+
+bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
+  const int p = static_cast<int>(ne.Jtr.size());
+  if (p == 0) return true;
+  if (!(sigma > 0.0) || ne.JtJ.rows() != p) return false;
+  const Eigen::VectorXd d = ne.JtJ.diagonal().cwiseMax(0.0).cwiseSqrt();
+  if (!(d.minCoeff() > 0.0)) return false;
+  const Eigen::VectorXd d_inv = d.cwiseInverse();
+  const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * ne.JtJ * d_inv.asDiagonal());
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::VectorXd g = d_inv.asDiagonal() * ne.Jtr;
+  const double predicted = g.dot(llt.solve(g));
+  return predicted <= 0.01 * sigma * sigma;
 }
 
 Covariance ComputeCovariance(const NormalEquations& ne, int p) {
@@ -134,6 +215,13 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   const ErrorModelProblem& problem = *prep.problem;
   problem.WriteToRobot(x, identified);
   const Covariance cov = ComputeCovariance(ne, problem.num_parameters());
+  // The standard deviations from the data alone (the prior's information removed).
+  Eigen::VectorXd data_sd = Eigen::VectorXd::Constant(problem.num_parameters(), NAN);
+  if (ne.JtJ.rows() == problem.num_parameters()) {
+    Eigen::MatrixXd JtJ_data = ne.JtJ;
+    JtJ_data.diagonal() -= PriorInformation(problem);
+    data_sd = DataStddev(problem, JtJ_data, cov.sigma, {});
+  }
 
   const ErrorModelProblem& p = problem;
   const auto value_of = [&](const ErrorModelParameter& q, const Robot& robot) -> double {
@@ -164,8 +252,15 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
     e.value = value_of(*q, *identified);
     const auto it = free_index.find(q->name);
     e.free = it != free_index.end();
+    if (q->prior_sd > 0.0) e.prior_sd = q->prior_sd * p.ReportScale(*q);
+    e.weak = std::any_of(prep.weak.begin(), prep.weak.end(), [&](const WeakParameter& w) { return w.name == q->name; });
     if (e.free) {
-      e.stddev = cov.stddev[it->second] * p.ReportScale(*q);
+      const int j = it->second;
+      e.stddev = cov.stddev[j] * p.ReportScale(*q);
+      e.data_sd = data_sd[j] * p.ReportScale(*q);
+      // The share of the information that came from the data: 1 - posterior variance / prior variance.
+      e.data_share = q->prior_sd > 0.0 ? 1.0 - (cov.stddev[j] * cov.stddev[j]) / (q->prior_sd * q->prior_sd)
+                                       : (std::isfinite(cov.stddev[j]) ? 1.0 : NAN);
     } else {
       for (const auto& h : p.held()) {
         if (h.parameter.name == q->name) e.note = h.reason;
@@ -190,6 +285,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["cost"] = ne.cost;
   d["registered_start_rms_m"] = Finite(prep.registered_rms);
   d["placed_in_closed_form"] = prep.placed;
+  d["placement_notes"] = prep.placement_notes;
   d["rank"] = a.rank;
   d["observability"] = {{"O1", a.observability.o1}, {"O2", a.observability.o2}, {"O3", a.observability.o3},
                         {"O4", a.observability.o4}, {"O5", a.observability.o5},
@@ -198,6 +294,22 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   nlohmann::json held = nlohmann::json::array();
   for (const auto& h : p.held()) held.push_back({{"name", h.parameter.name}, {"reason", h.reason}});
   d["held_parameters"] = held;
+  d["prior_noise_m"] = problem.has_priors() ? Finite(problem.prior_noise()) : nlohmann::json(nullptr);
+  nlohmann::json weak = nlohmann::json::array();
+  std::string held_weak, free_weak;
+  for (const auto& w : prep.weak) {
+    weak.push_back({{"name", w.name}, {"data_sd", Finite(w.data_sd)}, {"reference_sd", w.reference_sd},
+                    {"prior", w.has_prior}, {"held", w.held}, {"trades_against", w.trades_against}});
+    std::string& list = w.held ? held_weak : free_weak;
+    list += (list.empty() ? "" : ", ") + w.Describe();
+  }
+  d["weak_parameters"] = weak;
+  if (!held_weak.empty()) {
+    report->warnings.push_back("weakly identifiable without a prior, held at the start value (add poses that move "
+                               "them, or give them a prior): " + held_weak);
+  }
+  // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
+  if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;
 }
 
 bool FinishIfNothingFree(const PreparedErrorModel& prepared, Robot* identified, EstimationReport* report) {

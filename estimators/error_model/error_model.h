@@ -26,6 +26,7 @@
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/identifiability.h"
 #include "estimators/error_model/normal_equations.h"
+#include "estimators/error_model/weak_parameters.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
@@ -40,6 +41,13 @@ struct PreparedErrorModel {
   NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
   double registered_rms = NAN;                  // position RMS of the start once placed, m
   std::vector<std::string> warnings;
+  // What the placement fell back on but the fit normally recovers from (markers placed from the robot
+  // file's positions first): details.placement_notes, and warnings only when the fit did not converge.
+  std::vector<std::string> placement_notes;
+  // Weakly identifiable parameters (weak_parameters.h) found at the first solution, and those of them
+  // held because they have no prior (name, reason), kept when the problem is rebuilt.
+  std::vector<WeakParameter> weak;
+  std::vector<std::pair<std::string, std::string>> weak_held;
 };
 
 // Throws std::invalid_argument for bad input (ErrorModelProblem's conditions).
@@ -53,6 +61,26 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
 // estimator minimises again. Otherwise *x = solution and the result is false. Costs one pass.
 bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
                               PreparedErrorModel* prep, Eigen::VectorXd* x);
+
+// Rebuilds prep at `solution` (prep->start becomes the solution robot; identifiability re-analysed, weak
+// holds and prior means kept) with the priors weighed by `prior_noise` (m); *x = its InitialX().
+void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
+               PreparedErrorModel* prep, Eigen::VectorXd* x);
+
+// At a solution of prep->problem: finds the weakly identifiable parameters (prep->weak) and holds those
+// without a prior (prep->weak_held); when it holds any, rebuilds prep there (RestartAt) and returns true:
+// the estimator minimises again from *x. Otherwise *x = solution.
+bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
+                        Eigen::VectorXd* x);
+
+// The noise standard deviation per residual at x: sqrt(sum w rho' |r|^2 / (m - p)) of the data alone.
+double DataSigma(const NormalEquations& ne, int num_parameters);
+
+// Whether x is within a small fraction of a standard deviation of the minimum: the Gauss-Newton
+// decrease of the cost predicted at x, g^T N^-1 g, is at most (0.1 sigma)^2, i.e. the remaining step is
+// below 0.1 standard deviations in the metric of the parameters' covariance (N/sigma^2). A flat valley
+// where a solver ran out of iterations while moving along poorly determined directions passes.
+bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma);
 
 struct Covariance {
   Eigen::MatrixXd matrix;    // p x p, sigma^2 (J^T W J)^-1, x's units

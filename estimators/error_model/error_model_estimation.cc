@@ -1,6 +1,7 @@
 #include "estimators/error_model/error_model_estimation.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/selection/select_error_model.h"
@@ -17,6 +18,15 @@ void ErrorModelEstimatorOptions::ReadShared(OptionsReader* reader) {
   selection.Read(reader);
 }
 
+namespace {
+
+// The fit's own noise per residual at x, the data alone.
+double SigmaAt(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const RowWeighting& weighting) {
+  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false), problem.num_parameters());
+}
+
+}  // namespace
+
 void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                         const Dataset& data, Robot* identified, EstimationReport* report) {
@@ -29,16 +39,45 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   if (FinishIfNothingFree(prep, identified, report)) return;
   const double initial_cost = prep.initial.cost;
   Eigen::VectorXd x = prep.problem->InitialX();
-  MinimizerRun run = minimize(prep, weighting, budget, &x);
-  int iterations = run.iterations;
-  if (run.status == EstimationStatus::kConverged && ReanalyzeIdentifiability(x, weighting, &prep, &x)) {
-    run = minimize(prep, weighting, std::max(0, budget - iterations), &x);
+  int iterations = 0;
+  // A run that used its budget at a point within 0.1 standard deviations of the minimum reached it.
+  const auto run_from = [&]() {
+    MinimizerRun run = minimize(prep, weighting, std::max(0, budget - iterations), &x);
     iterations += run.iterations;
+    if (run.status == EstimationStatus::kIterationLimit) {
+      const NormalEquations ne = AccumulateNormalEquations(*prep.problem, x, weighting);
+      if (WithinNoiseOfMinimum(ne, DataSigma(ne, prep.problem->num_parameters()))) {
+        run.status = EstimationStatus::kConverged;
+        run.message += "; converged all the same: the remaining step is below 0.1 standard deviations";
+      }
+    }
+    return run;
+  };
+  const auto converged = [](const MinimizerRun& run) { return run.status == EstimationStatus::kConverged; };
+  MinimizerRun run = run_from();
+  if (converged(run) && ReanalyzeIdentifiability(x, weighting, &prep, &x)) run = run_from();
+  // Where a bounded solver ended on a bound, the bound decided those parameters, not the data: the weak
+  // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
+  const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
+  if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) run = run_from();
+  // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
+  if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
+    for (int pass = 0; pass < 8; ++pass) {
+      const double sigma = SigmaAt(*prep.problem, x, weighting);
+      const double noise = prep.problem->prior_noise();
+      if (!(sigma > 0.0) || std::abs(sigma - noise) <= 1e-3 * noise) break;
+      RestartAt(x, weighting, sigma, &prep, &x);
+      run = run_from();
+      if (!converged(run)) break;
+    }
   }
   report->status = run.status;
   report->message = run.message;
   report->iterations = iterations;
   FinishErrorModel(prep, x, weighting, identified, report);
+  if (!converged(run)) {
+    for (const auto& note : prep.placement_notes) report->warnings.push_back(note);
+  }
   nlohmann::json& d = report->details;
   d["prediction_covariance"] = ComputePredictionCovariance(prep, x, weighting).ToJson();
   if (run.details.is_object()) d.update(run.details);

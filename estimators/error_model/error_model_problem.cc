@@ -58,6 +58,10 @@ bool ErrorModelOptions::IsValid(std::string* why) const {
     if (!(v > 0.0) || !std::isfinite(v)) return fail("bounds must be positive and finite");
   }
   if (!(bounds.ratio < 1.0)) return fail("bound_ratio must be below 1");
+  if (!(prior.noise >= 0.0) || !std::isfinite(prior.noise)) return fail("prior_noise must be finite and >= 0");
+  for (const auto& [key, sd] : prior.sd) {
+    if (!(sd >= 0.0) || !std::isfinite(sd)) return fail("prior: " + key + " must be finite and >= 0");
+  }
   return true;
 }
 
@@ -76,6 +80,7 @@ void ErrorModelOptions::Read(OptionsReader* reader) {
   reader->GetLength("bound_base_length", &bounds.base_length);
   reader->GetAngleDeg("bound_base_angle_deg", &bounds.base_angle);
   reader->GetAngleDeg("bound_joint_error_deg", &bounds.joint_error);
+  ReadPriorOptions(reader, &prior);
 }
 
 ErrorModelProblem::~ErrorModelProblem() = default;
@@ -306,6 +311,18 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   }
   Build();
   MeasureRegressors();
+  AssignPriors();
+  for (const auto& [key, sd] : options.prior.sd) {
+    const auto& kinds = PriorOptions::Kinds();
+    const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
+                       std::any_of(candidates_.begin(), candidates_.end(), [&](const ErrorModelParameter& p) { return p.name == key; });
+    if (!known) {
+      std::string list;
+      for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("error model: prior: '" + key + "' is neither a kind (" + list +
+                                  ") nor a parameter of this robot and dataset");
+    }
+  }
 
   if (num_residuals_ <= num_parameters()) {
     throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(rows) + " rows give " +

@@ -39,6 +39,7 @@
 // The problem keeps a pointer to the dataset: the dataset must outlive it. It copies the robots.
 // Evaluation is const and thread-compatible: give every thread its own Workspace.
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -70,6 +71,32 @@ struct ErrorModelBounds {
   double joint_error = 0.5 * M_PI / 180.0;
 };
 
+// Gaussian priors (maximum a posteriori; figaroh-plus and industrial_calibration do the same): each
+// parameter with a prior adds the pseudo-residual noise * (x_j - mu_j) / sd_j to the cost, mu_j its
+// start value, so that the cost is noise^2 times the negative log posterior. Standard deviations by
+// kind (key: default under `prior: on`):
+//   length 1 mm (a_i, d_i), angle 2 mrad (alpha_i, beta_i), joint_offset 20 mrad (theta_i, or d_i of a
+//   prismatic joint), ratio 0.005 (relative), and per joint error type the RMS joint offset one
+//   coefficient makes over the dataset, or per unit regressor (1 m of lever arm, 1 rad/s) where the
+//   dataset moves it less: gravity 0.5 mrad, harmonic 0.1 mrad, backlash 0.1 mrad, approach 0.1 mrad
+//   (a strain-wave gear's transmission error and lost motion are tens of arc seconds). Base, tool, markers and session bases: no prior (free), unless named.
+// Keys in the estimator's options: `prior: on|off`, or a map by kind or parameter name, values with a
+// unit ("1mm", "2mrad", "0.1deg"; plain numbers SI), e.g. `prior: {length: 0.5mm, theta_2: 5mrad}` (the
+// kinds not given keep their defaults; `none` removes a prior); `prior_noise` (length, per residual;
+// default 0 = estimated from the residuals at the solution, the fit repeated until it settles).
+struct PriorOptions {
+  bool enabled = false;
+  std::map<std::string, double> sd;  // by kind or name, SI (joint error kinds: rad of joint offset); 0: none
+  double noise = 0.0;                // m; 0: estimated
+  // The defaults above by kind; 0 for an unknown kind.
+  static double DefaultSd(const std::string& kind);
+  static const std::vector<std::string>& Kinds();
+};
+
+class OptionsReader;
+// Reads `prior` and `prior_noise` (priors.cc).
+void ReadPriorOptions(OptionsReader* reader, PriorOptions* prior);
+
 struct ErrorModelOptions {
   // Held at their start value: parameter names ("a_2", "base_yaw", "ratio_3", "marker_SMR1_x",
   // "session_2_z", "gravity_2_link3_x") or groups: "base", "tool", "ratios", "markers", "sessions",
@@ -87,12 +114,13 @@ struct ErrorModelOptions {
   // of the span of the columns kept before it (identifiability.h). Dimensionless.
   double identifiability_tolerance = 1e-6;
   ErrorModelBounds bounds;
+  PriorOptions prior;
 
   bool IsValid(std::string* why) const;
   // Reads the keys above from an estimator's options (fixed, identify_ratios, identify_markers,
   // identify_session_bases, initialize_bases, orientation_length (length), identifiability_tolerance,
   // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg,
-  // bound_joint_error_deg).
+  // bound_joint_error_deg, prior, prior_noise).
   void Read(OptionsReader* reader);
 };
 
@@ -110,6 +138,13 @@ struct ErrorModelParameter {
   int session = 0;        // kSession: session id
   int axis = 0;           // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
   double start = 0.0;     // start value in x's units (SI; 1 for a ratio scale)
+  std::string prior_kind;  // "length", "angle", "joint_offset", "ratio", a joint error type; "" for base,
+                           // tool, markers and sessions
+  double prior_mean = 0.0; // x's units: the start value of the first problem (kept when re-analysed)
+  double prior_sd = 0.0;   // x's units; 0: no prior
+  // What "determined by the data" is judged against: prior_sd, or without a prior the default of its
+  // kind (lengths and angles for base, tool, markers and sessions). x's units.
+  double reference_sd = 0.0;
 };
 
 struct ParameterBlock {
@@ -171,6 +206,12 @@ class ErrorModelProblem {
   std::vector<int> RowBlocks(int row) const;
 
   Eigen::VectorXd InitialX() const;
+  // Noise standard deviation per residual that weighs the priors (m); 0 until set.
+  double prior_noise() const { return prior_noise_; }
+  void set_prior_noise(double noise) { prior_noise_ = noise; }
+  bool has_priors() const;
+  // Takes prior means (by name) and the noise from `other`, the problem this one replaces.
+  void InheritPriors(const ErrorModelProblem& other);
   // A priori magnitude of each parameter's error, for column and variable scaling: 1 mm for lengths,
   // 1 mrad for angles, 1e-3 for ratio scales (each moves a marker about 1 mm at 1 m reach), and for a
   // joint error coefficient the value that offsets its joint by 1 mrad RMS over the dataset.
@@ -205,6 +246,8 @@ class ErrorModelProblem {
   void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
   // regressor_rms_ at the start values (scales and bounds of the joint error coefficients).
   void MeasureRegressors();
+  // prior_kind, prior_sd, reference_sd of the candidates (after MeasureRegressors).
+  void AssignPriors();
   JointErrorContext ContextOf(const Workspace& ws) const;
 
   Robot start_;
@@ -212,6 +255,7 @@ class ErrorModelProblem {
   const Dataset* data_ = nullptr;
   ErrorModelOptions options_;
   bool ratios_active_ = false;
+  double prior_noise_ = 0.0;
 
   // Per row, shared by copies (Hold) so that a million rows are stored once.
   struct Rows {

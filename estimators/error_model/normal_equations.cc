@@ -41,7 +41,7 @@ double NormalEquations::PositionRms() const {
 }
 
 NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, const Eigen::VectorXd& x,
-                                          const RowWeighting& weighting, Accumulate what) {
+                                          const RowWeighting& weighting, Accumulate what, bool with_prior) {
   const int rows = problem.num_rows();
   if (!weighting.weights.empty()) {
     if (static_cast<int>(weighting.weights.size()) != rows) {
@@ -97,6 +97,7 @@ NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, cons
   }
   if (gradient) flush();
   if (normal) out.JtJ.triangularView<Eigen::StrictlyUpper>() = out.JtJ.transpose();
+  if (with_prior) AddPriorTerms(problem, x, &out);
   return out;
 }
 

@@ -39,7 +39,8 @@ struct RowWeighting {
 struct NormalEquations {
   Eigen::MatrixXd JtJ;            // p x p, symmetric (both triangles), empty unless requested
   Eigen::VectorXd Jtr;            // p, empty unless requested
-  double cost = 0.0;              // sum w rho(s)
+  double cost = 0.0;              // sum w rho(s), plus prior_cost
+  double prior_cost = 0.0;        // sum over parameters with a prior of (noise (x_j - mu_j) / sd_j)^2
   double irls_squares = 0.0;      // sum w rho'(s) s: the weighted sum of squares behind J^T J (sigma^2)
   double position_squares = 0.0;  // sum |r_position|^2, unweighted (the position RMS)
   int num_rows = 0;
@@ -50,8 +51,16 @@ struct NormalEquations {
 enum class Accumulate { kCost, kGradient, kNormalEquations };
 
 // Throws std::invalid_argument if weighting.weights has the wrong size or a negative/non-finite entry.
+// with_prior: the parameters' priors (ErrorModelParameter::prior_sd, weighed by problem.prior_noise())
+// add their pseudo-residuals noise (x_j - mu_j) / sd_j: to cost, J^T r and the diagonal of J^T J; never
+// to irls_squares, position_squares or num_residuals, which describe the data alone.
 NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, const Eigen::VectorXd& x,
                                           const RowWeighting& weighting = RowWeighting(),
-                                          Accumulate what = Accumulate::kNormalEquations);
+                                          Accumulate what = Accumulate::kNormalEquations, bool with_prior = true);
+
+// The prior terms above, added to *ne (its Jtr and JtJ where they are sized for x).
+void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, NormalEquations* ne);
+// Per free parameter, what its prior adds to the diagonal of J^T J: (noise / sd)^2, 0 without a prior.
+Eigen::VectorXd PriorInformation(const ErrorModelProblem& problem);
 
 }  // namespace kincal

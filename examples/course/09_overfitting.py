@@ -6,7 +6,8 @@ geometry (MDH and ratios, 33 free parameters) and the geometry with sin/cos term
 joint (24 more). On few poses the richer model fits the noise and predicts held-out poses worse; on many it
 captures the eccentricity and wins. Cross-validation (5 folds of the training rows, no held-out data
 needed) sees the same thing from the training set alone and picks the better model for each size (its
-errors include the scored rows' own noise, 30 um x sqrt(3) = 52 um: only the comparison counts).
+errors include the scored rows' own noise, 30 um x sqrt(3) = 52 um: only the comparison counts). The
+estimators' `select: true` does the same among nested models, adding the terms joint by joint.
 
     python3 09_overfitting.py [OUT_DIR]               # writes OUT_DIR/09_overfitting.png
 """
@@ -60,6 +61,12 @@ for n in (40, 400):
     truth_best = min(models, key=lambda label: held_out[label][sizes.index(n)])
     print(f"{n:3d} poses, 5-fold cross-validation: " + ", ".join(f"{k} {v * 1e3:.4f} mm" for k, v in cv.items())
           + f" -> chooses {best}; held-out best: {truth_best}")
+    # `select: true` does it inside the estimator, among nested models: geometry, + harmonic 1, + harmonic 2, ...
+    _, report = kincal.identify(models["+ harmonics"], train, "least_squares", {"select": True})
+    table = report["details"]["selection"]["candidates"]
+    chosen = next(c for c in table if c["chosen"])
+    print(f"{n:3d} poses, select: true chooses {chosen['candidate']} ({chosen['parameters']} parameters) "
+          f"among {len(table)} nested models")
 
 fig, ax = plt.subplots(figsize=(6, 4))
 for label, rms in held_out.items():

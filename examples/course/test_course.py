@@ -186,3 +186,8 @@ def test_09_overfitting(tmp_path):
     choices = re.findall(r"^\s*(\d+) poses, 5-fold cross-validation: .* -> chooses (.+); held-out best: (.+)$", out, re.M)
     assert [(n, chosen) for n, chosen, _ in choices] == [("40", "geometry"), ("400", "+ harmonics")], out
     assert all(chosen == best for _, chosen, best in choices), out
+    # The estimator's own selection: nothing on 40 poses; on 400 the harmonics up to joint 3 at least (the
+    # eccentric joints are 2 and 3; joint 1's term rides along in the nested order).
+    selected = dict(re.findall(r"^\s*(\d+) poses, select: true chooses (.+) \(\d+ parameters\) among 7 nested", out, re.M))
+    assert selected["40"] == "geometry", out
+    assert selected["400"].startswith("+ harmonic ") and int(selected["400"].split()[-1]) >= 3, out

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <sys/wait.h>
 #include <vector>
 
 #include "tests/support/test_util.h"
@@ -18,8 +19,7 @@ inline const char* kUr10B = "Series_B/measurements_joint_configurations.csv";
 inline const char* kUr10C = "Series_C/measurements_random_poses.csv";
 inline const char* kUr10D = "Series_D/measurements_iso_cubes.csv";
 
-// True when the data are here. Without them a test skips, or fails when KINCAL_REQUIRE_DATA=1 (a run
-// that promises the real data must not pass by skipping).
+// True when the data are here; without them a test skips (fails under KINCAL_REQUIRE_DATA=1).
 inline bool HaveUr10Data() { return std::ifstream(Ur10Series(kUr10D)).good(); }
 // (tests/support/test_util.h's KINCAL_SKIP_WITHOUT_SHARED_DATA: the skip, or the failure.)
 #define KINCAL_UR10_DATA_OR_SKIP() \

@@ -169,8 +169,9 @@ TEST_F(StudyFileTest, MissingTruthIsAnErrorForSimulatedData) {
 }
 
 // Every example study parses, unless it names a method this build does not register (the estimators and
-// compensators arrive in other modules), or reads ../shared/data where that folder is absent (and
-// KINCAL_REQUIRE_DATA is not 1); then it is skipped, with the message.
+// compensators arrive in other modules), reads ../shared/data where that folder is absent (and
+// KINCAL_REQUIRE_DATA is not 1), or reads a dataset not yet converted into the build folder; then it is
+// skipped, with the message.
 TEST(ExampleStudies, Parse) {
   const std::string dir = testing::SourcePath("examples/studies");
   int parsed = 0, files = 0;
@@ -191,7 +192,11 @@ TEST(ExampleStudies, Parse) {
                                   !std::filesystem::exists(entry.path().parent_path() / "../../../shared/data") &&
                                   message.find("cannot read") != std::string::npos &&
                                   message.find("shared/data/") != std::string::npos;
-      if (message.find("unknown method") == std::string::npos && !no_shared_data) {
+      // A study of data converted into the build folder first (scripts/ur10_ipa2021_dataset; its header
+      // says how) is skipped until that is done: the real-data tests convert and run it.
+      const bool not_converted = message.find("cannot read") != std::string::npos &&
+                                 message.find("/build/") != std::string::npos;
+      if (message.find("unknown method") == std::string::npos && !no_shared_data && !not_converted) {
         ADD_FAILURE() << message;
       } else {
         skipped.push_back(entry.path().filename().string() + ": " + message);

@@ -1,0 +1,145 @@
+#include "programs/filter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "framework/math.h"
+
+namespace kincal {
+
+bool FilterOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!T_base_frame.matrix().allFinite()) return fail("the work object must be finite");
+  if (T_flange_tool && !T_flange_tool->matrix().allFinite()) return fail("the tool must be finite");
+  if (!(keep_tolerance >= 0) || !std::isfinite(keep_tolerance)) return fail("keep_tolerance must be >= 0");
+  return true;
+}
+
+ProgramFilter::ProgramFilter(const Robot& nominal, const Robot& identified, std::unique_ptr<Compensator> compensator,
+                             const FilterOptions& options, ConfigurationConvention convention)
+    : options_(options), compensator_(std::move(compensator)) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("filter: " + why);
+  Robot nominal_used = nominal, identified_used = identified;
+  if (options_.T_flange_tool) {
+    identified_used.model().SetTool(*options_.T_flange_tool);
+    if (!nominal.model().tool().matrix().isIdentity(0.0)) nominal_used.model().SetTool(*options_.T_flange_tool);
+  }
+  compensator_->Prepare(nominal_used, identified_used);
+  controller_ = ControllerRobot(nominal_used, identified_used);
+  ik_ = std::make_unique<NominalInverseKinematics>(controller_);
+  rules_ = std::make_unique<ConfigurationRules>(convention, controller_);
+}
+
+std::string ReplaceNumbers(const std::string& text, const std::vector<NumberSpan>& spans,
+                           const std::vector<double>& values, double keep_tolerance) {
+  std::vector<size_t> order(spans.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return spans[a].begin < spans[b].begin; });
+  std::string out;
+  out.reserve(text.size() + text.size() / 4);
+  size_t at = 0;
+  for (size_t k : order) {
+    const NumberSpan& s = spans[k];
+    const double v = values[k];
+    out.append(text, at, s.begin - at);
+    at = s.end;
+    if (s.integer) {
+      const long long i = std::llround(v);
+      if (i == std::llround(s.value)) {
+        out.append(text, s.begin, s.end - s.begin);
+      } else if (s.binary) {  // 'B0110': as many digits as written, more if needed
+        std::string bits;
+        for (long long r = i; r > 0; r >>= 1) bits.insert(bits.begin(), static_cast<char>('0' + (r & 1)));
+        const size_t digits = s.end - s.begin - 3;  // without 'B and '
+        if (bits.size() < digits) bits.insert(0, digits - bits.size(), '0');
+        out += "'B" + bits + "'";
+      } else {
+        out += std::to_string(i);
+      }
+      continue;
+    }
+    if (std::abs(v - s.value) <= keep_tolerance * std::max(1.0, std::abs(s.value))) {
+      out.append(text, s.begin, s.end - s.begin);
+    } else {
+      out += FormatNumber(v);
+    }
+  }
+  out.append(text, at, std::string::npos);
+  return out;
+}
+
+FilteredProgram ProgramFilter::Filter(const ProgramFormat& format, const std::string& text,
+                                      const std::string& path) const {
+  const std::vector<ProgramTarget> targets = format.Read(text, path);
+  FilteredProgram out;
+  FilterReport& report = out.report;
+  std::vector<NumberSpan> spans;
+  std::vector<double> values;
+  const Eigen::Isometry3d T_meas_frame = controller_.model().base() * options_.T_base_frame;
+  const Eigen::Isometry3d T_frame_meas = T_meas_frame.inverse();
+  Eigen::VectorXd previous_command, reference;  // where the arm comes from: commands, controller's joints
+  for (const ProgramTarget& target : targets) {
+    const bool pose = target.kind == ProgramTarget::Kind::kPose;
+    (pose ? report.pose_targets : report.joint_targets)++;
+    const auto keep = [&](const std::string& why) {
+      report.not_reached.push_back(path + ":" + std::to_string(target.line) + ": " + why);
+      out.commands.emplace_back();
+    };
+    CompensationTarget goal;
+    goal.previous_command = previous_command;
+    if (pose) {
+      goal.T_meas_tool = T_meas_frame * target.T_frame_tool;
+      if (target.seed.size() != 0) {
+        goal.seed = target.seed;
+      } else {
+        const ConfigurationRules::Solution s = rules_->Solve(*ik_, goal.T_meas_tool, target.configuration, reference);
+        if (!s.found) {
+          keep(target.configuration.empty() ? "the controller does not reach the target inside its joint limits"
+                                            : "the controller has no solution on the branch its configuration names");
+          continue;
+        }
+        goal.seed = s.q;
+      }
+    } else {
+      goal.T_meas_tool = controller_.model().ForwardKinematics(
+          controller_.coupling.size() ? Eigen::VectorXd(controller_.coupling * target.q) : target.q);
+      goal.seed = target.q;
+    }
+    const CompensationResult r = compensator_->Compensate(goal);
+    reference = goal.seed;
+    if (r.report.status != CompensationStatus::kConverged) {
+      keep(ToString(r.report.status) + ": " + r.report.message);
+      previous_command = goal.seed;
+      continue;
+    }
+    previous_command = r.q_command;
+    report.branch_changed += r.report.branch_changed;
+    report.max_position_error = std::max(report.max_position_error, r.report.position_error);
+    report.max_orientation_error = std::max(report.max_orientation_error, r.report.orientation_error);
+    std::vector<double> numbers;
+    if (pose) {
+      const Eigen::VectorXd q_model =
+          controller_.coupling.size() ? Eigen::VectorXd(controller_.coupling * r.q_command) : r.q_command;
+      const Eigen::Isometry3d T = T_frame_meas * controller_.model().ForwardKinematics(q_model);
+      numbers = format.PoseNumbers(target, T, target.configuration.empty() ? std::vector<int>() : rules_->Of(r.q_command),
+                                   r.q_command);
+    } else {
+      numbers = format.JointNumbers(target, r.q_command);
+    }
+    if (numbers.size() != target.numbers.size()) throw std::logic_error("filter: the format wrote a wrong count");
+    spans.insert(spans.end(), target.numbers.begin(), target.numbers.end());
+    values.insert(values.end(), numbers.begin(), numbers.end());
+    out.commands.push_back(r.q_command);
+    ++report.filtered;
+  }
+  out.text = ReplaceNumbers(text, spans, values, options_.keep_tolerance);
+  return out;
+}
+
+}  // namespace kincal

