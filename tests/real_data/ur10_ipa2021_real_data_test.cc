@@ -177,6 +177,38 @@ INSTANTIATE_TEST_SUITE_P(Series, Ur10Select,
                                            SelectCase{"BC", "+ harmonic 2", 0.8559, 5.8474, 0.981}),
                          [](const ::testing::TestParamInfo<SelectCase>& info) { return info.param.series; });
 
+// `prior: on` (maximum a posteriori, error_model_problem.h's default prior sds) on the richest file, no
+// selection: the held-out error, beside geometry's (the first row of the table).
+struct PriorCase {
+  std::string series;
+  double rms_mm, max_mm;
+};
+
+class Ur10Prior : public ::testing::TestWithParam<PriorCase> {};
+
+TEST_P(Ur10Prior, HeldOutErrorOfTheRichestFileWithPriors) {
+  KINCAL_UR10_DATA_OR_SKIP();
+  const PriorCase& c = GetParam();
+  const Dataset all = ReadDataset(TableDataset(c.series));
+  const Robot nominal = Ur10WithTerms(22);
+  Robot identified;
+  const EstimationReport report = Estimators()
+                                      .Create("least_squares", YAML::Load("{max_iterations: 200, prior: on}"))
+                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  const ErrorStats e = EvaluatePredictions(nominal, identified, all.Subset(Split::kTest)).position_stats;
+  std::printf("series %s, prior: on: held-out RMS %.4f mm, max %.4f mm (%s)\n", c.series.c_str(), e.rms * 1e3,
+              e.max * 1e3, ToString(report.status).c_str());
+  EXPECT_NE(report.status, EstimationStatus::kFailed) << report.BriefReport();
+  EXPECT_NEAR(e.rms * 1e3, c.rms_mm, std::max(0.002, 0.005 * c.rms_mm));
+  EXPECT_NEAR(e.max * 1e3, c.max_mm, std::max(0.01, 0.01 * c.max_mm));
+}
+
+INSTANTIATE_TEST_SUITE_P(Series, Ur10Prior,
+                         ::testing::Values(PriorCase{"A", 0.4073, 1.1687}, PriorCase{"B", 0.4148, 1.7853},
+                                           PriorCase{"C", 0.4804, 1.5093}, PriorCase{"D", 0.3574, 1.0106},
+                                           PriorCase{"BC", 0.5701, 1.8183}),
+                         [](const ::testing::TestParamInfo<PriorCase>& info) { return info.param.series; });
+
 // Full pose, series D, even rows fit: position and orientation both held out; the weight is reported.
 struct FullPose {
   ErrorStats position, orientation;
