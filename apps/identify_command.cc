@@ -34,7 +34,16 @@ std::vector<YAML::Node> OptionsPerMethod(const YAML::Node& root, const std::vect
   if (!keyed && methods.size() > 1) {
     ThrowInputError(path, 1, 1, "with several methods, the options file must be keyed by method name");
   }
-  for (size_t i = 0; i < methods.size(); ++i) out[i] = keyed ? root[methods[i]] : root;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    if (!keyed) {
+      out[i] = root;
+      continue;
+    }
+    // A method missing from the file gets no options (a null node): a const map's operator[] returns an
+    // invalid node for a missing key, which every later use of it throws on.
+    const YAML::Node n = root[methods[i]];
+    if (n.IsDefined()) out[i] = n;
+  }
   return out;
 }
 

@@ -37,17 +37,27 @@ JointErrorContext JointErrorContextOf(const Robot& robot) {
   return c;
 }
 
+JointCorrection::~JointCorrection() = default;
+
+const JointCorrection* JointCorrectionOf(const Robot& robot) {
+  return dynamic_cast<const JointCorrection*>(&robot.model());
+}
+
 Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar, const Eigen::VectorXd* qbar_previous) {
-  if (robot.joint_errors.empty()) return qbar;
-  const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
-  return qbar + JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+  Eigen::VectorXd q = qbar;
+  if (!robot.joint_errors.empty()) {
+    const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
+    q += JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+  }
+  if (const JointCorrection* correction = JointCorrectionOf(robot)) q += correction->Offset(robot, q, qbar, qbar_previous);
+  return q;
 }
 
 Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, const Dataset& data, size_t row,
                                   const std::vector<Dataset::Previous>& previous) {
   const Measurement& m = data.rows[row];
   const Eigen::VectorXd qbar = DriveAngles(controller, robot, m);
-  if (robot.joint_errors.empty()) return qbar;
+  if (robot.joint_errors.empty() && !JointCorrectionOf(robot)) return qbar;
   const Dataset::Previous& p = previous[row];
   const Eigen::VectorXd* q_prev = data.PreviousQ(p);
   if (!q_prev) return ApplyJointErrors(robot, qbar, nullptr);
@@ -59,7 +69,7 @@ Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, c
 Eigen::VectorXd ActualFromReadings(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
                                    const Eigen::VectorXd* readings_previous, const std::vector<int64_t>& encoders) {
   const Eigen::VectorXd qbar = DriveAngles(controller, robot, readings, encoders);
-  if (robot.joint_errors.empty() || !readings_previous) return ApplyJointErrors(robot, qbar, nullptr);
+  if ((robot.joint_errors.empty() && !JointCorrectionOf(robot)) || !readings_previous) return ApplyJointErrors(robot, qbar, nullptr);
   const Eigen::VectorXd qbar_prev = DriveAngles(controller, robot, *readings_previous);
   return ApplyJointErrors(robot, qbar, &qbar_prev);
 }
@@ -78,7 +88,9 @@ Eigen::VectorXd InvertJointErrors(const Robot& robot, const Eigen::VectorXd& q_a
   Eigen::VectorXd best_qbar = qbar;
   for (int iteration = 0; iteration < 30; ++iteration) {
     EvaluateJointErrorMap(robot.joint_errors, context, qbar, qbar_prev, {true, false, false}, &map);
-    const Eigen::VectorXd f = map.q - q_actual;
+    // The correction enters through its value only (a fixed point: it is small and slowly varying).
+    Eigen::VectorXd f = map.q - q_actual;
+    if (const JointCorrection* correction = JointCorrectionOf(robot)) f += correction->Offset(robot, map.q, qbar, qbar_prev);
     const double norm = f.cwiseAbs().maxCoeff();
     if (norm < best) best = norm, best_qbar = qbar;
     if (norm <= 1e-15 * (1.0 + q_actual.cwiseAbs().maxCoeff())) break;
@@ -94,7 +106,7 @@ Eigen::VectorXd ReadingsFromActual(const Robot& controller, const Robot& robot, 
                                    const Eigen::VectorXd* readings_previous, double* residual) {
   Eigen::VectorXd qbar = q_actual;
   if (residual) *residual = 0.0;
-  if (!robot.joint_errors.empty()) {
+  if (!robot.joint_errors.empty() || JointCorrectionOf(robot)) {
     Eigen::VectorXd qbar_prev;
     if (readings_previous) qbar_prev = DriveAngles(controller, robot, *readings_previous);
     qbar = InvertJointErrors(robot, q_actual, readings_previous ? &qbar_prev : nullptr, residual);

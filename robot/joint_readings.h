@@ -23,6 +23,22 @@
 
 namespace kincal {
 
+// A joint-level correction that a robot's model may carry (a model class that also derives from this
+// interface; robot files do not hold it): applied after the joint errors, q = q_errors + Offset(robot,
+// q_errors, qbar, qbar_prev), q_errors = qbar + dq(qbar, qbar_prev). It sees what the joint errors see, the
+// readings and the move that led to them (approach, backlash), and the robot (its model, to map a Cartesian
+// quantity to joints): a learned residual on those features lives here (examples/plugins/learned_residual).
+// It must be small and slowly varying: the readings' inverse (ReadingsFromActual) treats it as a fixed
+// point. Offset returns n joint offsets (rad; m for prismatic joints); qbar_previous null: none.
+class JointCorrection {
+ public:
+  virtual ~JointCorrection();
+  virtual Eigen::VectorXd Offset(const Robot& robot, const Eigen::VectorXd& q_errors, const Eigen::VectorXd& qbar,
+                                 const Eigen::VectorXd* qbar_previous) const = 0;
+};
+// The robot's model as a JointCorrection, or null.
+const JointCorrection* JointCorrectionOf(const Robot& robot);
+
 // qbar from readings (encoders empty: the joint values are the readings).
 Eigen::VectorXd DriveAngles(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
                             const std::vector<int64_t>& encoders = {});

@@ -367,7 +367,9 @@ bool KeyedByMethod(const YAML::Node& options, const std::vector<std::string>& me
 
 YAML::Node MethodOptions(const YAML::Node& options, const std::vector<std::string>& methods, size_t i) {
   if (!options || options.IsNull()) return YAML::Node();
-  return KeyedByMethod(options, methods) ? options[methods[i]] : options;
+  if (!KeyedByMethod(options, methods)) return options;
+  const YAML::Node n = options[methods[i]];  // missing: an invalid node, which later uses throw on
+  return n.IsDefined() ? n : YAML::Node();
 }
 
 // Creates the method once so that unknown options fail here, at their line.

@@ -176,6 +176,28 @@ TEST(Cli, BadDatasetNamesItsLineAndColumn) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A pipeline's options file keyed by method names may leave a method out: that method gets its defaults,
+// and the listed one its options (here an iteration cap that shows in its stage of the report).
+TEST(Cli, PipelineOptionsFileMayOmitAMethod) {
+  testing::TempDir dir;
+  const std::string data = dir.path("sweep.csv");
+  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " +
+                      Example("seed_identified.yaml") + " --protocol sweep --noise 10um --seed 7 --out " + data)
+                .exit_code,
+            0);
+  const std::string options = dir.path("o.yaml");
+  testing::WriteText(options, "least_squares: {max_iterations: 1}\n");
+  const std::string report = dir.path("report.json");
+  const auto r = RunKincal("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                           " --method least_squares,none --options " + options + " --out " +
+                           dir.path("identified.yaml") + " --report " + report);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(report));
+  ASSERT_EQ(json["stages"].size(), 2u);
+  EXPECT_LE(json["stages"][0]["iterations"].get<int>(), 1) << json["stages"][0].dump();
+  EXPECT_TRUE(std::filesystem::exists(dir.path("identified.yaml")));
+}
+
 TEST(Cli, MissingInputFileIsBadInput) {
   const auto r = RunKincal("fk /nonexistent/robot.yaml --q=0");
   EXPECT_EQ(r.exit_code, 2);
