@@ -28,12 +28,14 @@
 namespace kincal::app {
 
 void AddCompensateCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
+  auto* cmd =
+      app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
   struct Args {
     std::string nominal, identified, targets, method, options, out, frame = "meas";
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")->required();
+  cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")
+      ->required();
   cmd->add_option("--identified", a->identified, "the identified (real) robot file")->required();
   cmd->add_option("--targets", a->targets, "targets (CSV): x_mm,y_mm,z_mm[,qw,qx,qy,qz][,q1_deg..qN_deg seeds]")
       ->required();
@@ -91,7 +93,8 @@ void AddCompensateCommand(CLI::App& app) {
       out.append(buffer, end);
     };
     for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
-    if (drives) for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
+    if (drives)
+      for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
     out += "status,iterations,position_error_" + length.name + ",orientation_error_deg,seed_computed\n";
     for (const CompensationResult& r : results) {
       for (int i = 0; i < n; ++i) {

@@ -48,7 +48,8 @@ void AddStudyCommand(CLI::App& app) {
   cmd->add_option("study", a->study, "study file (YAML)")->required();
   cmd->add_option("--out", a->out,
                   "output folder (created): report.md, results.csv, plots/, ...; its study.journal lets the same "
-                  "command continue a stopped run")->required();
+                  "command continue a stopped run")
+      ->required();
   cmd->add_option("--threads", a->threads, "worker threads (default: the study's, else every core)");
   cmd->add_option("--shard", a->shard, "run slice i of N of the work items (combine with kincal merge)");
   cmd->callback([a]() {

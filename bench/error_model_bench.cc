@@ -94,7 +94,9 @@ BENCHMARK_CAPTURE(BM_Estimator, ceres, std::string("ceres"))->Arg(1000)->Unit(be
 BENCHMARK_CAPTURE(BM_Estimator, nlopt, std::string("nlopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Estimator, ipopt, std::string("ipopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))
-    ->Arg(1000000)->Iterations(1)->Unit(benchmark::kSecond);
+    ->Arg(1000000)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 BENCHMARK(BM_NormalEquationsPass)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 }  // namespace kincal

@@ -26,13 +26,15 @@ std::vector<OptionDoc> OptionDocs() {
 
 CompensatorRegistry MakeRegistry() {
   CompensatorRegistry r;
-  r.Register({"none", "the controller's nominal joints, unchanged (baseline)", FactoryOf<NoneCompensator>(), OptionDocs<NoneCompensator>()});
+  r.Register({"none", "the controller's nominal joints, unchanged (baseline)", FactoryOf<NoneCompensator>(),
+              OptionDocs<NoneCompensator>()});
   r.Register({"analytic_derivative",
               "the seed's 12-equation pose-matrix differential (METHOD.md 4), weighted, damped near singularities",
               FactoryOf<AnalyticDerivativeCompensator>(), OptionDocs<AnalyticDerivativeCompensator>()});
   r.Register({"jacobian", "6-D pose error, geometric Jacobian, damped least squares near singularities",
               FactoryOf<JacobianCompensator>(), OptionDocs<JacobianCompensator>()});
-  r.Register({"joint_space", "identified pose as exact per-joint Fourier factors built offline; 3 fixed Jacobian steps at run time",
+  r.Register({"joint_space",
+              "identified pose as exact per-joint Fourier factors built offline; 3 fixed Jacobian steps at run time",
               FactoryOf<JointSpaceCompensator>(), OptionDocs<JointSpaceCompensator>()});
   return r;
 }

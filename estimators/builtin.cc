@@ -29,8 +29,10 @@ std::vector<OptionDoc> OptionDocs() {
 
 EstimatorRegistry MakeRegistry() {
   EstimatorRegistry r;
-  r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(), OptionDocs<NoneEstimator>()});
-  r.Register({"geometric", "circle point analysis: joint axes from swept arcs, MDH frames by common normals (seed, METHOD.md 2)",
+  r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(),
+              OptionDocs<NoneEstimator>()});
+  r.Register({"geometric",
+              "circle point analysis: joint axes from swept arcs, MDH frames by common normals (seed, METHOD.md 2)",
               FactoryOf<GeometricEstimator>(), OptionDocs<GeometricEstimator>()});
   r.Register({"ratio_regression", "reduction ratios from swept arcs and encoder counts (seed, METHOD.md 3)",
               FactoryOf<RatioRegressionEstimator>(), OptionDocs<RatioRegressionEstimator>()});

@@ -17,7 +17,8 @@ void OptionsReader::Fail(const std::string& key, const std::string& what) const 
   const YAML::Node n = node_ && node_.IsMap() ? node_[key] : YAML::Node();
   const YAML::Mark mark = n ? n.Mark() : YAML::Mark::null_mark();
   std::string where = "options of " + what_;
-  if (!mark.is_null()) where = "line " + std::to_string(mark.line + 1) + ", column " + std::to_string(mark.column + 1) + ": " + where;
+  if (!mark.is_null())
+    where = "line " + std::to_string(mark.line + 1) + ", column " + std::to_string(mark.column + 1) + ": " + where;
   ThrowInputError(where + ": '" + key + "': " + what);
 }
 
@@ -41,9 +42,12 @@ void OptionsReader::Get(const std::string& key, bool* value) {
   read_.push_back(key);
   if (!node_ || !node_.IsMap() || !node_[key]) return;
   const std::string s = node_[key].Scalar();
-  if (s == "true" || s == "yes" || s == "on") *value = true;
-  else if (s == "false" || s == "no" || s == "off") *value = false;
-  else Fail(key, "expected true or false");
+  if (s == "true" || s == "yes" || s == "on")
+    *value = true;
+  else if (s == "false" || s == "no" || s == "off")
+    *value = false;
+  else
+    Fail(key, "expected true or false");
 }
 
 void OptionsReader::Get(const std::string& key, std::string* value) {
@@ -143,8 +147,8 @@ Requirement<double> NonNegative() {
 }
 
 Requirement<double> Between(double lo, double hi, bool lo_open, bool hi_open) {
-  const std::string text = std::string("must lie in ") + (lo_open ? "(" : "[") + Number(lo) + ", " + Number(hi) +
-                           (hi_open ? ")" : "]");
+  const std::string text =
+      std::string("must lie in ") + (lo_open ? "(" : "[") + Number(lo) + ", " + Number(hi) + (hi_open ? ")" : "]");
   return [=](const double& v) {
     const bool above = lo_open ? v > lo : v >= lo;
     const bool below = hi_open ? v < hi : v <= hi;

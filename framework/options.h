@@ -57,8 +57,8 @@ enum class OptionUnit { kPlain, kLength, kAngleDeg };
 template <typename T>
 using Requirement = std::function<std::string(const T&)>;
 
-Requirement<double> Positive();        // finite and > 0
-Requirement<double> NonNegative();     // finite and >= 0
+Requirement<double> Positive();                                                 // finite and > 0
+Requirement<double> NonNegative();                                              // finite and >= 0
 Requirement<double> Between(double lo, double hi, bool lo_open, bool hi_open);  // finite, in the interval
 Requirement<int> AtLeast(int lo);
 Requirement<int> Within(int lo, int hi);  // lo..hi
@@ -116,7 +116,8 @@ class OptionTable {
   template <typename T>
   OptionTable& Add(const std::string& key, OptionUnit unit, T O::*member, const std::string& doc,
                    Requirement<T> require = nullptr) {
-    return AddAccess<T>(key, unit, [member](O* o) { return &(o->*member); }, doc, std::move(require));
+    return AddAccess<T>(
+        key, unit, [member](O* o) { return &(o->*member); }, doc, std::move(require));
   }
   // A value reached through get and set (an enumeration read by name: set throws std::invalid_argument
   // for a bad name, and the message is the option's error).
@@ -247,8 +248,8 @@ class OptionTable {
 
  private:
   template <typename T>
-  OptionTable& AddAccess(const std::string& key, OptionUnit unit, std::function<T*(O*)> access,
-                         const std::string& doc, Requirement<T> require) {
+  OptionTable& AddAccess(const std::string& key, OptionUnit unit, std::function<T*(O*)> access, const std::string& doc,
+                         Requirement<T> require) {
     Field f;
     f.doc = {key, options_detail::TypeName(T(), unit), "", doc};
     f.read = [key, unit, access, require](OptionsReader* reader, O* o) {

@@ -54,7 +54,8 @@ void LoadPlugin(const std::string& path, PluginRegistrar& registrar) {
   dlerror();
   const auto entry = reinterpret_cast<PluginEntryPoint>(dlsym(handle, KINCAL_PLUGIN_ENTRY_POINT));
   if (!entry) {
-    throw std::invalid_argument("plugin " + path + ": no entry point " KINCAL_PLUGIN_ENTRY_POINT
+    throw std::invalid_argument("plugin " + path +
+                                ": no entry point " KINCAL_PLUGIN_ENTRY_POINT
                                 " (define one with KINCAL_PLUGIN from framework/plugin.h)");
   }
   const char* version = entry(nullptr);

@@ -13,7 +13,8 @@ Eigen::VectorXd DriveAngles(const Robot& controller, const Robot& robot, const E
   const bool ratios = robot.drives && controller.drives;
   if (!encoders.empty() && robot.drives) {
     Eigen::VectorXd counts(static_cast<Eigen::Index>(encoders.size()));
-    for (size_t i = 0; i < encoders.size(); ++i) counts[static_cast<Eigen::Index>(i)] = static_cast<double>(encoders[i]);
+    for (size_t i = 0; i < encoders.size(); ++i)
+      counts[static_cast<Eigen::Index>(i)] = static_cast<double>(encoders[i]);
     const Eigen::VectorXd q_motor = robot.drives->AnglesFromCounts(counts);  // = D r, uncoupled
     if (!coupled) return q_motor;
     if (!ratios) return robot.coupling * q_motor;
@@ -43,13 +44,15 @@ const JointCorrection* JointCorrectionOf(const Robot& robot) {
   return dynamic_cast<const JointCorrection*>(&robot.model());
 }
 
-Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar, const Eigen::VectorXd* qbar_previous) {
+Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar,
+                                 const Eigen::VectorXd* qbar_previous) {
   Eigen::VectorXd q = qbar;
   if (!robot.joint_errors.empty()) {
     const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
     q += JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
   }
-  if (const JointCorrection* correction = JointCorrectionOf(robot)) q += correction->Offset(robot, q, qbar, qbar_previous);
+  if (const JointCorrection* correction = JointCorrectionOf(robot))
+    q += correction->Offset(robot, q, qbar, qbar_previous);
   return q;
 }
 
@@ -62,14 +65,16 @@ Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, c
   const Eigen::VectorXd* q_prev = data.PreviousQ(p);
   if (!q_prev) return ApplyJointErrors(robot, qbar, nullptr);
   const std::vector<int64_t>* enc_prev = data.PreviousEncoders(p);
-  const Eigen::VectorXd qbar_prev = DriveAngles(controller, robot, *q_prev, enc_prev ? *enc_prev : std::vector<int64_t>{});
+  const Eigen::VectorXd qbar_prev =
+      DriveAngles(controller, robot, *q_prev, enc_prev ? *enc_prev : std::vector<int64_t>{});
   return ApplyJointErrors(robot, qbar, &qbar_prev);
 }
 
 Eigen::VectorXd ActualFromReadings(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
                                    const Eigen::VectorXd* readings_previous, const std::vector<int64_t>& encoders) {
   const Eigen::VectorXd qbar = DriveAngles(controller, robot, readings, encoders);
-  if ((robot.joint_errors.empty() && !JointCorrectionOf(robot)) || !readings_previous) return ApplyJointErrors(robot, qbar, nullptr);
+  if ((robot.joint_errors.empty() && !JointCorrectionOf(robot)) || !readings_previous)
+    return ApplyJointErrors(robot, qbar, nullptr);
   const Eigen::VectorXd qbar_prev = DriveAngles(controller, robot, *readings_previous);
   return ApplyJointErrors(robot, qbar, &qbar_prev);
 }
@@ -90,7 +95,8 @@ Eigen::VectorXd InvertJointErrors(const Robot& robot, const Eigen::VectorXd& q_a
     EvaluateJointErrorMap(robot.joint_errors, context, qbar, qbar_prev, {true, false, false}, &map);
     // The correction enters through its value only (a fixed point: it is small and slowly varying).
     Eigen::VectorXd f = map.q - q_actual;
-    if (const JointCorrection* correction = JointCorrectionOf(robot)) f += correction->Offset(robot, map.q, qbar, qbar_prev);
+    if (const JointCorrection* correction = JointCorrectionOf(robot))
+      f += correction->Offset(robot, map.q, qbar, qbar_prev);
     const double norm = f.cwiseAbs().maxCoeff();
     if (norm < best) best = norm, best_qbar = qbar;
     if (norm <= 1e-15 * (1.0 + q_actual.cwiseAbs().maxCoeff())) break;

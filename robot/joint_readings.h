@@ -57,8 +57,7 @@ Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, c
 // Actual joint angles for readings (and encoder counts, if given) that follow `readings_previous`
 // (commanded angles; null: the first pose).
 Eigen::VectorXd ActualFromReadings(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
-                                   const Eigen::VectorXd* readings_previous,
-                                   const std::vector<int64_t>& encoders = {});
+                                   const Eigen::VectorXd* readings_previous, const std::vector<int64_t>& encoders = {});
 
 // The inverse, for compensation: the readings (commands) that put `robot`'s joints at q_actual when
 // the arm comes from `readings_previous` (null: no previous pose). Joint errors are inverted by Newton's

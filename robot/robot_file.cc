@@ -67,8 +67,10 @@ std::unique_ptr<KinematicModel> ReadModel(const Reader& r, const YAML::Node& roo
     JointType type = JointType::kRevolute;
     if (row["type"]) {
       const std::string t = r.String(row["type"], "type");
-      if (t == "prismatic") type = JointType::kPrismatic;
-      else if (t != "revolute") r.Fail(row["type"], "expected type revolute or prismatic, got '" + t + "'");
+      if (t == "prismatic")
+        type = JointType::kPrismatic;
+      else if (t != "revolute")
+        r.Fail(row["type"], "expected type revolute or prismatic, got '" + t + "'");
     }
     types.push_back(type);
   }
@@ -87,8 +89,8 @@ std::unique_ptr<KinematicModel> ReadModel(const Reader& r, const YAML::Node& roo
     for (const auto& key : keys) {
       // Hayati's beta and a POE row's theta default to 0 (an MDH table reads as a Hayati model unchanged).
       // A URDF row's offset (no URDF field) defaults to 0 as well.
-      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta") ||
-                        (convention == "urdf" && key == "offset"))) {
+      if (!row[key] &&
+          (key == "beta" || (convention == "poe" && key == "theta") || (convention == "urdf" && key == "offset"))) {
         continue;
       }
       if (!row[key]) r.Fail(row, "joint row " + std::to_string(i + 1) + " lacks '" + key + "'");
@@ -114,8 +116,8 @@ DriveModel ReadDrives(const Reader& r, const YAML::Node& d, int n) {
   };
   drives.ratio = to_vector(r.Numbers(d["ratio"], "drives.ratio", n));
   drives.counts_per_rev = to_vector(r.Numbers(d["counts_per_rev"], "drives.counts_per_rev", n));
-  drives.encoder_zero = d["encoder_zero"] ? to_vector(r.Numbers(d["encoder_zero"], "drives.encoder_zero", n))
-                                          : Eigen::VectorXd::Zero(n);
+  drives.encoder_zero =
+      d["encoder_zero"] ? to_vector(r.Numbers(d["encoder_zero"], "drives.encoder_zero", n)) : Eigen::VectorXd::Zero(n);
   try {
     drives.Validate(n);
   } catch (const std::invalid_argument& e) {
@@ -166,8 +168,8 @@ Robot::UrdfSource ReadUrdfSource(const Reader& r, const YAML::Node& u, int n) {
   for (const char* key : {"source", "base", "tip", "joints"}) {
     if (!u[key]) r.Fail(u, std::string("urdf lacks '") + key + "'");
   }
-  Robot::UrdfSource source{r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"),
-                           r.String(u["tip"], "urdf.tip"), {}};
+  Robot::UrdfSource source{
+      r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"), r.String(u["tip"], "urdf.tip"), {}};
   if (!u["joints"].IsSequence() || static_cast<int>(u["joints"].size()) != n) {
     r.Fail(u["joints"], "expected urdf.joints to name the " + std::to_string(n) + " moving joints");
   }
@@ -186,8 +188,9 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     ThrowInputError(source, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
   }
   if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
-  r.CheckKeys(root, {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
-                     "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
+  r.CheckKeys(root,
+              {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
+               "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
               "the robot file");
   const auto [length, angle] = ReadUnits(r, root, source);
   std::unique_ptr<KinematicModel> model = ReadModel(r, root, source, length, angle);
@@ -306,7 +309,8 @@ std::string RobotToYaml(const Robot& robot) {
   if (!robot.markers.empty()) {
     out << "markers:\n";
     for (const auto& [id, p] : robot.markers) {
-      out << "  " << YamlString(id) << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
+      out << "  " << YamlString(id) << ": "
+          << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
   }
   if (robot.urdf) {

@@ -39,7 +39,8 @@ YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::No
 // when it has drives), coming from the previous target's commands (robot/joint_readings.h).
 Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r,
                             const Eigen::VectorXd* previous_command) {
-  return ActualFromReadings(nominal, truth, r.q_command, previous_command, truth.drives ? r.encoders : std::vector<int64_t>{});
+  return ActualFromReadings(nominal, truth, r.q_command, previous_command,
+                            truth.drives ? r.encoders : std::vector<int64_t>{});
 }
 
 // The baseline on measured data: the nominal geometry placed in the instrument's frame, only the base and
@@ -140,7 +141,8 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
       row.nominal = nominal_value(nominal.markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
       row.estimate = p_tool_marker[k] * 1e3;
       row.stddev = stddev_of(row.name) * 1e3;
-      if (truth) row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      if (truth)
+        row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
       rows.push_back(row);
     }
   }
@@ -196,7 +198,8 @@ std::string NonFiniteParameters(const Robot& robot) {
   }
   if (robot.drives) {
     for (int j = 0; j < robot.drives->ratio.size(); ++j) {
-      if (!std::isfinite(robot.drives->ratio[j])) names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
+      if (!std::isfinite(robot.drives->ratio[j]))
+        names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
     }
   }
   return names;
@@ -372,7 +375,8 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       }
       d.measured.Validate(d.nominal.dof());
       if (spec.split == DatasetSpec::Split::kColumn && d.measured.Subset(Split::kTest).rows.empty()) {
-        ThrowInputError(spec.file, 0, 0, "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
+        ThrowInputError(spec.file, 0, 0,
+                        "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
       }
       datasets_.push_back(std::move(d));
       continue;
@@ -389,13 +393,14 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       const bool orientation = v.orientation && d.nominal.dof() >= 6;
       d.orientation.push_back(orientation);
       if (v.kind == ValidationSpec::Kind::kRandom) {
-        d.targets.push_back(
-            ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation, ValidationSeed(study_, v)));
+        d.targets.push_back(ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation,
+                                                   ValidationSeed(study_, v)));
       } else {
         try {
           d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
         } catch (const std::invalid_argument& e) {
-          ThrowInputError(study_.source, 0, 0, "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
+          ThrowInputError(study_.source, 0, 0,
+                          "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
         }
       }
     }
@@ -439,7 +444,8 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
   }
   // SelectRows keeps each row's previous pose from the whole sequence (joint errors of the move need it).
   std::vector<int> train_rows, test_rows;
-  for (size_t i = 0; i < all.rows.size(); ++i) (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
+  for (size_t i = 0; i < all.rows.size(); ++i)
+    (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
   *test = all.SelectRows(test_rows);
   return all.SelectRows(train_rows);
 }
@@ -475,8 +481,9 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     for (size_t i = 0; i < pipeline.methods.size(); ++i) {
       method = pipeline.methods[i];
       const bool placement = !spec.simulated && pipeline.methods[i] == "none";
-      const auto estimator = placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
-                                       : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
+      const auto estimator =
+          placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
+                    : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
       Robot next;
       reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
       seconds += reports.back().wall_time_seconds;
@@ -493,7 +500,8 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
       if (ParametersAtBounds(r) > 0) {
         why += (why.empty() ? "" : ", ") + std::to_string(ParametersAtBounds(r)) + " parameter(s) on their bounds";
       }
-      if (!why.empty()) result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
+      if (!why.empty())
+        result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
     }
   } catch (...) {
     result.estimation_status = "error";
@@ -533,7 +541,8 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
         const PredictionErrors e = EvaluatePredictions(d.nominal, identified, test);
         const bool all_oriented = e.orientation.size() == test.rows.size();
         std::vector<double> position, orientation;
-        for (const MeasuredIsoPose& p : MeasuredIso9283(d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
+        for (const MeasuredIsoPose& p : MeasuredIso9283(
+                 d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
           iso.iso.push_back({p.pose, p.stats});
           for (int r : p.rows) {
             position.push_back(e.position[r]);

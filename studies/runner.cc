@@ -26,7 +26,8 @@ bool StudyRunOptions::IsValid(std::string* why) const {
   };
   if (threads < 0) return fail("threads must be >= 0");
   if (shard_count < 1 || shard_index < 1 || shard_index > shard_count) {
-    return fail("shard must be i/N with 1 <= i <= N, got " + std::to_string(shard_index) + "/" + std::to_string(shard_count));
+    return fail("shard must be i/N with 1 <= i <= N, got " + std::to_string(shard_index) + "/" +
+                std::to_string(shard_count));
   }
   return true;
 }
@@ -104,15 +105,16 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   }
   std::unique_ptr<StudyJournal> journal;
   if (options.journal) {
-    journal = std::make_unique<StudyJournal>(
-        out_dir, StudyFingerprint(study, options.shard_index, options.shard_count), num_items);
+    journal = std::make_unique<StudyJournal>(out_dir, StudyFingerprint(study, options.shard_index, options.shard_count),
+                                             num_items);
   }
   // Each item's rows of the five tables, in the order of `mine`: from the journal or computed now.
   std::vector<StudyTables> rows(mine.size());
   std::vector<size_t> todo;
   StudyRunSummary summary;
   for (size_t k = 0; k < mine.size(); ++k) {
-    const auto recorded = journal ? journal->recorded().find(mine[k].index) : std::map<int, StudyTables>::const_iterator();
+    const auto recorded =
+        journal ? journal->recorded().find(mine[k].index) : std::map<int, StudyTables>::const_iterator();
     if (journal && recorded != journal->recorded().end()) {
       rows[k] = recorded->second;
       ++summary.items_resumed;
@@ -121,8 +123,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
     }
   }
   if (journal && summary.items_resumed != static_cast<int>(journal->recorded().size())) {
-    ThrowInputError(journal->path() + ": holds work items that are not in shard " + std::to_string(options.shard_index) +
-                    "/" + std::to_string(options.shard_count));
+    ThrowInputError(journal->path() + ": holds work items that are not in shard " +
+                    std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count));
   }
 
   int threads = options.threads > 0 ? options.threads : study.threads;
@@ -130,7 +132,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   threads = std::max(1, std::min<int>(threads, static_cast<int>(todo.size())));
 
   std::string what = "work items";
-  if (options.shard_count > 1) what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
+  if (options.shard_count > 1)
+    what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
   if (options.progress && summary.items_resumed > 0) {
     *options.progress << "resuming: " << summary.items_resumed << " of " << mine.size() << " " << what
                       << " already done (" << journal->path() << ")\n";
@@ -141,7 +144,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   }
   ProgressReporter progress(options.progress, options.interactive, static_cast<int>(todo.size()), what);
   bool stopped = false;
-  const int finished = RunItems(study, evaluator, mine, todo, threads, options, journal.get(), &progress, &rows, &stopped);
+  const int finished =
+      RunItems(study, evaluator, mine, todo, threads, options, journal.get(), &progress, &rows, &stopped);
 
   summary.items_total = num_items;
   summary.items_run = static_cast<int>(mine.size());
@@ -160,8 +164,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
       }
     }
     const nlohmann::json manifest = StudyManifest(study, evaluator.variants(), num_items);
-    WriteStudyFiles(out_dir, manifest,
-                    std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count), tables);
+    WriteStudyFiles(out_dir, manifest, std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count),
+                    tables);
     if (options.shard_count == 1 && options.write_report) WriteReport(out_dir);
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

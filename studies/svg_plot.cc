@@ -13,18 +13,27 @@ const char* const kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E6
 constexpr int kColours = 8;
 constexpr int kShapes = 5;
 const char* const kDashes[] = {"", "7 3", "2 2"};
-constexpr double kCharWidth = 6.4;   // of 11 px sans-serif text, for layout estimates
+constexpr double kCharWidth = 6.4;  // of 11 px sans-serif text, for layout estimates
 constexpr double kPlotHeight = 280.0;
 
 std::string Escape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -37,8 +46,8 @@ std::string Num(double v) {
 }
 
 struct Scale {
-  double lo = 0.0, hi = 1.0;      // data range shown (for log axes, log10 of it)
-  double from = 0.0, to = 1.0;    // pixels
+  double lo = 0.0, hi = 1.0;    // data range shown (for log axes, log10 of it)
+  double from = 0.0, to = 1.0;  // pixels
   bool log = false;
   double operator()(double v) const {
     const double t = log ? std::log10(v) : v;
@@ -181,7 +190,9 @@ void Marker(std::ostream& o, double x, double y, const Style& st) {
   const std::string paint = " fill=\"" + fill + "\" stroke=\"" + st.colour + "\" stroke-width=\"1.3\"/>\n";
   const double r = 3.6;
   switch (st.shape) {
-    case 0: o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"" << Num(r) << "\"" << paint; break;
+    case 0:
+      o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"" << Num(r) << "\"" << paint;
+      break;
     case 1:
       o << "<rect x=\"" << Num(x - r) << "\" y=\"" << Num(y - r) << "\" width=\"" << Num(2 * r) << "\" height=\""
         << Num(2 * r) << "\"" << paint;
@@ -216,7 +227,7 @@ void TickLabel(std::ostream& o, double x, double y, const Tick& t, const std::st
 struct PanelLayout {
   double title_height = 0.0;
   double plot_height = kPlotHeight;
-  double bottom = 0.0;           // x tick labels, x label, note
+  double bottom = 0.0;  // x tick labels, x label, note
   bool rotate_categories = false;
   double Height() const { return title_height + plot_height + bottom; }
 };
@@ -291,8 +302,8 @@ std::string FormatTick(double value, double step) {
 
 // Grid, zero line, frame, ticks and their labels, axis labels and the panel's note.
 static void DrawAxes(std::ostream& o, const Axes& a, const PanelLayout& l, const Scale& sx, const Scale& sy,
-                     const std::vector<Tick>& xticks, const std::vector<Tick>& yticks, double x0, double x1,
-                     double y0, double y1, double note_width) {
+                     const std::vector<Tick>& xticks, const std::vector<Tick>& yticks, double x0, double x1, double y0,
+                     double y1, double note_width) {
   // Grid, frame, ticks.
   o << "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
   for (const auto& t : yticks) {
@@ -306,7 +317,8 @@ static void DrawAxes(std::ostream& o, const Axes& a, const PanelLayout& l, const
     for (const auto& t : xticks) {
       if (t.label.empty()) continue;
       const double x = sx(t.value);
-      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y0) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1) << "\"/>\n";
+      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y0) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1)
+        << "\"/>\n";
     }
   }
   o << "</g>\n";
@@ -347,8 +359,9 @@ static void DrawAxes(std::ostream& o, const Axes& a, const PanelLayout& l, const
   if (!a.y_label.empty()) {
     const double x = std::max(14.0, x0 - widest_ytick - 18.0);
     const double y = (y0 + y1) / 2;
-    o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y) << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 "
-      << Num(x) << " " << Num(y) << ")\">" << Escape(a.y_label) << "</text>\n";
+    o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y)
+      << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 " << Num(x) << " " << Num(y) << ")\">"
+      << Escape(a.y_label) << "</text>\n";
   }
   double note_y = y1 + tick_labels + (a.x_label.empty() ? 18.0 : 38.0);
   for (const auto& line : WrapNote(a.note, static_cast<size_t>(note_width / kNoteCharWidth))) {
@@ -371,8 +384,10 @@ static void DrawData(std::ostream& o, const Axes& a, const Scale& sx, const Scal
     const double x = sx(b.position), h = box_width / 2;
     const auto Y = [&](double v) { return sy.Visible(v) ? sy(v) : sy.from; };
     o << "<g stroke=\"" << colour << "\" stroke-width=\"1.2\">\n";
-    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.low)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.q1)) << "\"/>\n";
-    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.q3)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.high)) << "\"/>\n";
+    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.low)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.q1))
+      << "\"/>\n";
+    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.q3)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.high))
+      << "\"/>\n";
     for (double v : {b.low, b.high}) {
       o << "<line x1=\"" << Num(x - h / 2) << "\" y1=\"" << Num(Y(v)) << "\" x2=\"" << Num(x + h / 2) << "\" y2=\""
         << Num(Y(v)) << "\"/>\n";
@@ -401,9 +416,12 @@ static void DrawData(std::ostream& o, const Axes& a, const Scale& sx, const Scal
         const double lo = sy.Visible(se.y_low[i]) ? sy(se.y_low[i]) : sy.from;
         if (!sy.Visible(se.y_high[i])) continue;
         const double hi = sy(se.y_high[i]), x = sx(se.x[i]);
-        o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(hi) << "\"/>\n";
-        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(lo) << "\"/>\n";
-        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(hi) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(hi) << "\"/>\n";
+        o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(hi)
+          << "\"/>\n";
+        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(lo)
+          << "\"/>\n";
+        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(hi) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(hi)
+          << "\"/>\n";
       }
       o << "</g>\n";
     }
@@ -498,7 +516,8 @@ std::string RenderSvg(const Figure& figure) {
     if (!a.categories.empty()) {
       sx.lo = -0.5;
       sx.hi = static_cast<double>(a.categories.size()) - 0.5;
-      for (size_t i = 0; i < a.categories.size(); ++i) xticks.push_back({static_cast<double>(i), a.categories[i], false});
+      for (size_t i = 0; i < a.categories.size(); ++i)
+        xticks.push_back({static_cast<double>(i), a.categories[i], false});
     } else {
       double lo, hi;
       XRange(a, &lo, &hi);

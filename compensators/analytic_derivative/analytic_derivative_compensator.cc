@@ -10,7 +10,9 @@ namespace {
 class PoseMatrixResidual final : public PoseResidual {
  public:
   PoseMatrixResidual(const KinematicModel& model, const CompensationTarget& target, double length_scale)
-      : model_(model), T_a_(target.T_meas_tool.matrix()), position_only_(!target.has_orientation),
+      : model_(model),
+        T_a_(target.T_meas_tool.matrix()),
+        position_only_(!target.has_orientation),
         inverse_scale_(1.0 / length_scale) {}
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,

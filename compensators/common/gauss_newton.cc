@@ -11,8 +11,8 @@ const OptionTable<GaussNewtonOptions>& GaussNewtonOptions::Table() {
   static const OptionTable<O> table =
       OptionTable<O>("gauss-newton")
           .Add("max_iterations", &O::max_iterations, "accepted steps", AtLeast(0))
-          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "converged within this position error",
-               Positive())
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance,
+               "converged within this position error", Positive())
           .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation error", Positive())
           .Add("singular_ratio", &O::singular_ratio, "sigma_min / sigma_max below which steps are damped",
                Between(0, 1, false, true))

@@ -10,7 +10,9 @@ namespace {
 class TwistResidual final : public PoseResidual {
  public:
   TwistResidual(const KinematicModel& model, const CompensationTarget& target, double length_scale)
-      : model_(model), T_a_(target.T_meas_tool), position_only_(!target.has_orientation),
+      : model_(model),
+        T_a_(target.T_meas_tool),
+        position_only_(!target.has_orientation),
         inverse_scale_(1.0 / length_scale) {}
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
@@ -51,11 +53,10 @@ class TwistResidual final : public PoseResidual {
 JacobianCompensator::JacobianCompensator() : JacobianCompensator(Options()) {}
 
 const OptionTable<JacobianCompensator::Options>& JacobianCompensator::Options::Table() {
-  static const OptionTable<Options> table =
-      OptionTable<Options>("jacobian")
-          .Add("length_scale", OptionUnit::kLength, &Options::length_scale, "position rows are divided by it",
-               Positive())
-          .Include(GaussNewtonOptions::Table(), &Options::iteration);
+  static const OptionTable<Options> table = OptionTable<Options>("jacobian")
+                                                .Add("length_scale", OptionUnit::kLength, &Options::length_scale,
+                                                     "position rows are divided by it", Positive())
+                                                .Include(GaussNewtonOptions::Table(), &Options::iteration);
   return table;
 }
 

@@ -52,17 +52,17 @@ void JointSpaceCompensator::DoPrepare() {
   const int n = id.dof();
   if (n < 2 || n > kMaxJoints) throw std::invalid_argument("joint_space: needs 2 to 16 joints");
   const double bytes = 12 * sizeof(double) * (2.0 * options_.degree + 1) * n;
-  if (bytes > options_.max_table_bytes) throw std::invalid_argument("joint_space: the expansion exceeds max_table_bytes");
+  if (bytes > options_.max_table_bytes)
+    throw std::invalid_argument("joint_space: the expansion exceeds max_table_bytes");
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
   const Eigen::Isometry3d T0 = model.ForwardKinematics(zero), T0_inv = T0.inverse();
   T_zero_ = T0.matrix();
   factors_.clear();
   for (int j = 0; j < n; ++j) {
     const auto [low, high] = id.Limit(j);
-    factors_.push_back(PoseExpansion::Fit({{j, model.joint_type(j), low, high}}, options_.degree, zero,
-                                          [&](const Eigen::VectorXd& q) {
-                                            return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv);
-                                          }));
+    factors_.push_back(PoseExpansion::Fit(
+        {{j, model.joint_type(j), low, high}}, options_.degree, zero,
+        [&](const Eigen::VectorXd& q) { return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv); }));
   }
 
   revolute_.clear();
@@ -99,8 +99,9 @@ void JointSpaceCompensator::DoPrepare() {
         std::max(info_.fit_orientation_error, (T.linear() - T_model.linear()).cwiseAbs().maxCoeff());
   }
   if (!(info_.fit_position_error <= options_.max_fit_error && info_.fit_orientation_error <= options_.max_fit_error)) {
-    throw std::invalid_argument("joint_space: the degree-" + std::to_string(options_.degree) + " expansion misses the " +
-                                "identified model by " + std::to_string(info_.fit_position_error) + " m, " +
+    throw std::invalid_argument("joint_space: the degree-" + std::to_string(options_.degree) +
+                                " expansion misses the " + "identified model by " +
+                                std::to_string(info_.fit_position_error) + " m, " +
                                 std::to_string(info_.fit_orientation_error) + " (over max_fit_error)");
   }
   // The common part of the correction (header): exact corrections at well-conditioned random
@@ -152,10 +153,11 @@ void JointSpaceCompensator::JointTrig::Advance(const Joints& dq) {
       // Taylor series to x^13 / x^12: the remainder is below 0.6^14 / 14! ~ 9e-15 relative to 1... and
       // each step's own error is what the next step corrects.
       const double x2 = x * x;
-      sd = x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 +
-                                                                                                          x2 / 6227020800.0))))));
-      cd = 1 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 +
-                                                                                             x2 / 479001600.0)))));
+      sd = x * (1 + x2 * (-1.0 / 6 +
+                          x2 * (1.0 / 120 + x2 * (-1.0 / 5040 +
+                                                  x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 + x2 / 6227020800.0))))));
+      cd = 1 + x2 * (-0.5 + x2 * (1.0 / 24 +
+                                  x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 / 479001600.0)))));
     } else {
       cd = std::cos(x);
       sd = std::sin(x);

@@ -33,8 +33,8 @@ const OptionTable<CeresOptions>& CeresOptions::Table() {
           .Add("function_tolerance", &O::function_tolerance, "Ceres' function_tolerance", NonNegative())
           .Add("gradient_tolerance", &O::gradient_tolerance, "Ceres' gradient_tolerance", NonNegative())
           .Add("parameter_tolerance", &O::parameter_tolerance, "Ceres' parameter_tolerance", NonNegative())
-          .Add("initial_trust_region_radius", &O::initial_trust_region_radius, "Levenberg-Marquardt's initial trust region",
-               Positive())
+          .Add("initial_trust_region_radius", &O::initial_trust_region_radius,
+               "Levenberg-Marquardt's initial trust region", Positive())
           .Add("num_threads", &O::num_threads, "threads evaluating residual blocks", AtLeast(1))
           .Add("verbose", &O::verbose, "Ceres' per-iteration log on stdout");
   return table;
@@ -49,10 +49,13 @@ namespace {
 EstimationStatus StatusOf(const ceres::Solver::Summary& summary) {
   switch (summary.termination_type) {
     case ceres::CONVERGENCE:
-    case ceres::USER_SUCCESS: return EstimationStatus::kConverged;
-    case ceres::NO_CONVERGENCE: return EstimationStatus::kIterationLimit;
+    case ceres::USER_SUCCESS:
+      return EstimationStatus::kConverged;
+    case ceres::NO_CONVERGENCE:
+      return EstimationStatus::kIterationLimit;
     case ceres::FAILURE:
-    case ceres::USER_FAILURE: return EstimationStatus::kFailed;
+    case ceres::USER_FAILURE:
+      return EstimationStatus::kFailed;
   }
   return EstimationStatus::kFailed;
 }

@@ -23,7 +23,8 @@ namespace {
 
 // The fit's own noise per residual at x, the data alone.
 double SigmaAt(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const RowWeighting& weighting) {
-  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false), problem.num_parameters());
+  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false),
+                   problem.num_parameters());
 }
 
 }  // namespace

@@ -32,13 +32,20 @@ Vector6d XyzRpy(const Eigen::Isometry3d& T) {
 // Order of the groups in x (blocks are contiguous).
 int GroupOrder(Group g) {
   switch (g) {
-    case Group::kJoint: return 0;
-    case Group::kTool: return 0;
-    case Group::kRatio: return 1;
-    case Group::kJointError: return 2;
-    case Group::kMarker: return 3;
-    case Group::kBase: return 4;
-    case Group::kSession: return 5;
+    case Group::kJoint:
+      return 0;
+    case Group::kTool:
+      return 0;
+    case Group::kRatio:
+      return 1;
+    case Group::kJointError:
+      return 2;
+    case Group::kMarker:
+      return 3;
+    case Group::kBase:
+      return 4;
+    case Group::kSession:
+      return 5;
   }
   return 6;
 }
@@ -50,7 +57,8 @@ const OptionTable<ErrorModelBounds>& ErrorModelBounds::Table() {
   static const OptionTable<B> table =
       OptionTable<B>("error model bounds")
           .Add("bound_length", OptionUnit::kLength, &B::length, "bound on a_i, d_i (bounded solvers)", Positive())
-          .Add("bound_angle_deg", OptionUnit::kAngleDeg, &B::angle, "bound on alpha_i, theta_i, tool angles", Positive())
+          .Add("bound_angle_deg", OptionUnit::kAngleDeg, &B::angle, "bound on alpha_i, theta_i, tool angles",
+               Positive())
           .Add("bound_ratio", &B::ratio, "relative bound on the ratio scales", Between(0, 1, true, true))
           .Add("bound_marker", OptionUnit::kLength, &B::marker, "bound on marker offsets and tool_x/y/z", Positive())
           .Add("bound_base_length", OptionUnit::kLength, &B::base_length, "bound on base translations", Positive())
@@ -101,14 +109,16 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   if (!options.IsValid(&why)) throw std::invalid_argument("error model options: " + OneLine(why));
   if (!start.has_model()) throw std::invalid_argument("error model: the robot has no model");
   const int n = start.dof();
-  if (controller.dof() != n) throw std::invalid_argument("error model: the controller and the model differ in joint count");
+  if (controller.dof() != n)
+    throw std::invalid_argument("error model: the controller and the model differ in joint count");
   data.Validate(n);
   if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
   if (start.drives) start.drives->Validate(n);
   start.ValidateJointLevel();
   joint_errors_active_ = !start.joint_errors.empty();
   coefficient_joints_ = start.joint_errors.CoefficientJoints();
-  for (const auto& t : start.joint_errors.terms) gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
+  for (const auto& t : start.joint_errors.terms)
+    gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
 
   const RowSummary summary = TabulateRows();
   FindJointParameters();
@@ -126,7 +136,8 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   for (const auto& [key, sd] : options.prior.sd) {
     const auto& kinds = PriorOptions::Kinds();
     const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
-                       std::any_of(candidates_.begin(), candidates_.end(), [&](const ErrorModelParameter& p) { return p.name == key; });
+                       std::any_of(candidates_.begin(), candidates_.end(),
+                                   [&](const ErrorModelParameter& p) { return p.name == key; });
     if (!known) {
       std::string list;
       for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
@@ -162,7 +173,8 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
   per_row->session.resize(rows);
   per_row->orientation.resize(rows);
   const bool previous_used = start_.joint_errors.uses_previous();
-  const std::vector<Dataset::Previous> previous = previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
+  const std::vector<Dataset::Previous> previous =
+      previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
   if (previous_used) {
     per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
     per_row->has_previous.assign(rows, 0);
@@ -179,14 +191,17 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
         per_row->has_previous[i] = 1;
       }
     }
-    if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
+    if (!q.allFinite())
+      throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
     Eigen::Map<Eigen::VectorXd>(&per_row->q_ref[static_cast<size_t>(i) * n], n) = q;
     per_row->marker[i] = m.marker.empty()
                              ? -1
-                             : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
+                             : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) -
+                                                marker_ids_.begin());
     per_row->session[i] = m.session == 0
                               ? -1
-                              : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
+                              : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) -
+                                                 session_ids_.begin());
     per_row->orientation[i] = m.orientation.has_value();
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
@@ -217,7 +232,7 @@ void ErrorModelProblem::ListCandidates() {
     const ParameterInfo& info = model.parameter_info()[j];
     ErrorModelParameter p;
     p.name = info.name;
-    p.group = info.group == ParameterInfo::Group::kJoint ? Group::kJoint
+    p.group = info.group == ParameterInfo::Group::kJoint  ? Group::kJoint
               : info.group == ParameterInfo::Group::kBase ? Group::kBase
                                                           : Group::kTool;
     p.kind = info.kind == ParameterInfo::Kind::kLength ? Kind::kLength : Kind::kAngle;
@@ -251,7 +266,7 @@ void ErrorModelProblem::ListCandidates() {
     p.coefficient = k;
     p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
              : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
-                                                                             : "rad";
+                                                                            : "rad";
     p.start = c[k];
     candidates_.push_back(p);
   }
@@ -303,7 +318,8 @@ void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* r
       for (const auto& p : candidates_) list += (list.empty() ? "" : ", ") + p.name;
       throw std::invalid_argument("error model: cannot fix '" + name +
                                   "': not a parameter of this robot and dataset (groups: base, tool, ratios, markers, "
-                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " + list + ")");
+                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " +
+                                  list + ")");
     }
   }
 }
@@ -321,7 +337,8 @@ void ErrorModelProblem::HoldByConstruction(const RowSummary& summary, std::map<s
     }
     if (p.group == Group::kMarker && !options_.identify_markers) hold(p, "identify_markers is off");
     if (p.group == Group::kSession && !options_.identify_session_bases) hold(p, "identify_session_bases is off");
-    if (p.group == Group::kBase && !summary.any_session0) hold(p, "no row in session 0: the model's base has no effect");
+    if (p.group == Group::kBase && !summary.any_session0)
+      hold(p, "no row in session 0: the model's base has no effect");
     if (model_parameter) {
       const std::string redundant = model.RedundantParameterReason(p.model_index);
       if (!redundant.empty()) hold(p, redundant);
@@ -392,14 +409,16 @@ void ErrorModelProblem::Build() {
         block_index = &joint_error_block_;
         break;
       case Group::kMarker: {
-        const int slot = static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
+        const int slot =
+            static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
         marker_column_[slot][p.axis] = i;
         block = "marker:" + p.marker;
         block_index = &marker_block_[slot];
         break;
       }
       case Group::kSession: {
-        const int slot = static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), p.session) - session_ids_.begin());
+        const int slot = static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), p.session) -
+                                          session_ids_.begin());
         session_column_[slot][p.axis] = i;
         block = "session:" + std::to_string(p.session);
         block_index = &session_block_[slot];
@@ -467,13 +486,25 @@ void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) c
     const bool length = p.kind == Kind::kLength;
     double half = 0.0;
     switch (p.group) {
-      case Group::kJoint: half = length ? b.length : b.angle; break;
-      case Group::kTool: half = length ? b.marker : b.angle; break;
-      case Group::kRatio: half = b.ratio; break;
-      case Group::kMarker: half = b.marker; break;
+      case Group::kJoint:
+        half = length ? b.length : b.angle;
+        break;
+      case Group::kTool:
+        half = length ? b.marker : b.angle;
+        break;
+      case Group::kRatio:
+        half = b.ratio;
+        break;
+      case Group::kMarker:
+        half = b.marker;
+        break;
       case Group::kBase:
-      case Group::kSession: half = length ? b.base_length : b.base_angle; break;
-      case Group::kJointError: half = b.joint_error / regressor_rms_[p.coefficient]; break;
+      case Group::kSession:
+        half = length ? b.base_length : b.base_angle;
+        break;
+      case Group::kJointError:
+        half = b.joint_error / regressor_rms_[p.coefficient];
+        break;
     }
     (*lower)[i] = p.start - half;
     (*upper)[i] = p.start + half;
@@ -498,8 +529,8 @@ void ErrorModelProblem::MeasureRegressors() {
       if (!rows_->has_previous.empty() && rows_->has_previous[row]) {
         previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n);
       }
-      const Eigen::VectorXd phi = EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar,
-                                                     previous.size() ? &previous : nullptr);
+      const Eigen::VectorXd phi =
+          EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar, previous.size() ? &previous : nullptr);
       for (int k = 0; k < K; ++k) sum2[k] += phi[k] * phi[k];
     }
   }
@@ -654,7 +685,8 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
     if (c < 0) continue;
     if (session >= 0 && free_[c].group == Group::kBase) continue;
     J.col(c) = Jm.col(j);
-    if (gravity_geometry && free_[c].group != Group::kBase) J.col(c) += Jq * map.dq_dparameters.col(static_cast<Eigen::Index>(j));
+    if (gravity_geometry && free_[c].group != Group::kBase)
+      J.col(c) += Jq * map.dq_dparameters.col(static_cast<Eigen::Index>(j));
   }
   for (int i = 0; i < n; ++i) {
     const int c = ratio_column_[i];
@@ -717,10 +749,14 @@ double ErrorModelProblem::ReportScale(const ErrorModelParameter& p) const {
 
 std::string ErrorModelProblem::Unit(const ErrorModelParameter& p) {
   switch (p.kind) {
-    case Kind::kLength: return "m";
-    case Kind::kAngle: return "rad";
-    case Kind::kRatioScale: return "";
-    case Kind::kCoefficient: return p.unit;
+    case Kind::kLength:
+      return "m";
+    case Kind::kAngle:
+      return "rad";
+    case Kind::kRatioScale:
+      return "";
+    case Kind::kCoefficient:
+      return p.unit;
   }
   return "";
 }

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-
 namespace kincal {
 
 const OptionTable<RowWeightingOptions>& RowWeightingOptions::Table() {

@@ -37,7 +37,6 @@ struct StartPlacement {
 };
 
 // Places into *robot (a copy of the start); rows whose base is held and whose slot is held are not used.
-StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
-                          Robot* robot);
+StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options, Robot* robot);
 
 }  // namespace kincal

@@ -52,9 +52,7 @@ const OptionTable<GeometricEstimator::Options>& GeometricEstimator::Options::Tab
 
 bool GeometricEstimator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
-GeometricEstimator::Options GeometricEstimator::Options::FromYaml(const YAML::Node& node) {
-  return Table().Read(node);
-}
+GeometricEstimator::Options GeometricEstimator::Options::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 namespace {
 
@@ -62,7 +60,8 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 constexpr double kDeg = 180.0 / M_PI;
 
 std::vector<ArcFit> FitSweeps(const geometric::SweepSet& sweeps, const std::vector<int>& joints,
-                              const geometric::ArcFitOptions& options, const std::string& who, const std::string& source) {
+                              const geometric::ArcFitOptions& options, const std::string& who,
+                              const std::string& source) {
   std::vector<ArcFit> fits(sweeps.dof);
   for (int j : joints) {
     const geometric::Sweep& s = sweeps.sweeps[j - 1];
@@ -124,10 +123,9 @@ std::vector<int> SweptJoints(const geometric::SweepSet& sweeps, int n, const Dat
   return joints;
 }
 
-geometric::Uncertainty StandardDeviations(const GeometricEstimator::Options& options,
-                                          const geometric::SweepSet& sweeps, const std::vector<int>& joints,
-                                          const std::vector<ArcFit>& fits, const geometric::GeometricProblem& problem,
-                                          const KinematicModel& model) {
+geometric::Uncertainty StandardDeviations(const GeometricEstimator::Options& options, const geometric::SweepSet& sweeps,
+                                          const std::vector<int>& joints, const std::vector<ArcFit>& fits,
+                                          const geometric::GeometricProblem& problem, const KinematicModel& model) {
   std::vector<bool> is_angle;
   for (const auto& p : model.parameter_info()) is_angle.push_back(p.kind == ParameterInfo::Kind::kAngle);
   const geometric::ArcSolveFunction solve = [&](const std::vector<ArcFit>& f) {
@@ -197,12 +195,13 @@ bool ReportAxes(const geometric::SweepSet& sweeps, const std::vector<ArcFit>& fi
     report->iterations += f.iterations;
     nlohmann::json turned = nlohmann::json::array();
     for (const auto& [i, dx] : sweeps.sweeps[j - 1].moved) {
-      turned.push_back({{"joint", i + 1}, {"angle_rad", (problem.angles_from_readings ? 1.0 : fits[i].angle_slope) * dx}});
+      turned.push_back(
+          {{"joint", i + 1}, {"angle_rad", (problem.angles_from_readings ? 1.0 : fits[i].angle_slope) * dx}});
     }
     nlohmann::json circles = nlohmann::json::array();
     for (size_t m = 0; m < f.circles.size() && several; ++m) {
-      circles.push_back({{"marker", sweeps.markers[m]}, {"center_m", Vec(f.circles[m].center)},
-                         {"radius_m", f.circles[m].radius}});
+      circles.push_back(
+          {{"marker", sweeps.markers[m]}, {"center_m", Vec(f.circles[m].center)}, {"radius_m", f.circles[m].radius}});
     }
     axes->push_back({{"joint", j},
                      {"point_m", Vec(solution.axes[j - 1].point)},
@@ -266,18 +265,20 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
   const bool several = sweeps.markers.size() > 1;
   const std::vector<int> joints = SweptJoints(sweeps, n, data);
   const std::vector<ArcFit> fits = FitSweeps(sweeps, joints, options_.arc, "geometric", data.source);
-  geometric::GeometricProblem problem = geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
+  geometric::GeometricProblem problem =
+      geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
   problem.angles_from_readings =
       options_.joint_angles == "readings" || (options_.joint_angles == "auto" && !start.drives.has_value());
-  const bool markers_from_stops =
-      several && (options_.markers_from == "stops" || (options_.markers_from == "auto" && problem.angles_from_readings));
+  const bool markers_from_stops = several && (options_.markers_from == "stops" ||
+                                              (options_.markers_from == "auto" && problem.angles_from_readings));
   const geometric::GeometricSolution solution = geometric::SolveGeometry(problem, fits);
 
   *identified = mdh_start;
   KinematicModel& model = identified->model();
   model.SetParameters(solution.parameters);
   if (several) {
-    for (size_t m = 0; m < sweeps.markers.size(); ++m) identified->markers[sweeps.markers[m]] = solution.p_tool_markers[m];
+    for (size_t m = 0; m < sweeps.markers.size(); ++m)
+      identified->markers[sweeps.markers[m]] = solution.p_tool_markers[m];
     if (markers_from_stops) MarkersFromStops(controller, data, sweeps.markers, identified);
   }
   if (sweeps.session != 0) {
@@ -309,11 +310,12 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
       {"marker_at_calibration_m", Vec(solution.p_meas_marker)},
       {"axes", axes},
       {"pairs", pairs},
-      {"stddev", {{"method", u.method},
-                  {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
-                  {"degrees_of_freedom", u.degrees_of_freedom},
-                  {"replicates", u.replicates},
-                  {"note", u.note}}}};
+      {"stddev",
+       {{"method", u.method},
+        {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
+        {"degrees_of_freedom", u.degrees_of_freedom},
+        {"replicates", u.replicates},
+        {"note", u.note}}}};
   if (several) {
     nlohmann::json positions = nlohmann::json::object();
     nlohmann::json from_arc = nlohmann::json::object();
@@ -326,8 +328,8 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
   }
   if (sweeps.session != 0) {
     const Eigen::Isometry3d& T = solution.T_meas_base;
-    report->details["session_base"] = {{"session", sweeps.session}, {"xyz_m", Vec(T.translation())},
-                                       {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
+    report->details["session_base"] = {
+        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
   }
   if (start.model().convention() != "mdh") {
     // Back to the start's convention, exactly (models/conversion.h); the parameters listed are the
@@ -335,12 +337,13 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     *identified = identified->WithModel(ConvertModel(identified->model(), start.model().convention()));
     report->warnings.push_back("the start robot is " + start.model().convention() +
                                ": the geometry was built in modified DH (the parameters listed) and converted "
-                               "exactly back to " + start.model().convention());
+                               "exactly back to " +
+                               start.model().convention());
   }
   report->status = all_converged ? EstimationStatus::kConverged : EstimationStatus::kIterationLimit;
   report->message = "axes of " + std::to_string(n) + " sweeps" +
-                    (several ? " of " + std::to_string(sweeps.markers.size()) + " markers jointly" : std::string()) + " (" + geometric::ToString(options_.arc.circle_fit) +
-                    " circle fit), frames by common normals";
+                    (several ? " of " + std::to_string(sweeps.markers.size()) + " markers jointly" : std::string()) +
+                    " (" + geometric::ToString(options_.arc.circle_fit) + " circle fit), frames by common normals";
 }
 
 }  // namespace kincal

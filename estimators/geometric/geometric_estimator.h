@@ -8,12 +8,12 @@
 // calibration configuration and the order of sweeps). The start robot may be in any convention (mdh,
 // dh, hayati, poe, urdf): it is converted exactly to MDH for the construction (models/conversion.h), and
 // the result converted exactly back to the start's convention; revolute joints only.
-// Output: a complete robot (the MDH construction's): table, base = T_meas_frame0, tool = the marker's position in the last
-// frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the ratio_regression stage identifies them). The report lists the fitted axes
-// (point, direction), each fit's residual RMS, every parameter with a standard deviation
-// (uncertainty.h), the parallel pairs met (each also a warning) and the parameters held because they are
-// redundant with the base or the tool. The start robot's free mask is not used: the construction
-// determines every parameter the sweeps can show, and holds the rest at the start values.
+// Output: a complete robot (the MDH construction's): table, base = T_meas_frame0, tool = the marker's position in the
+// last frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the
+// ratio_regression stage identifies them). The report lists the fitted axes (point, direction), each fit's residual
+// RMS, every parameter with a standard deviation (uncertainty.h), the parallel pairs met (each also a warning) and the
+// parameters held because they are redundant with the base or the tool. The start robot's free mask is not used: the
+// construction determines every parameter the sweeps can show, and holds the rest at the start values.
 #include <cstdint>
 #include <string>
 

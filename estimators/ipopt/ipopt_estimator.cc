@@ -15,27 +15,41 @@ namespace {
 
 std::string ReturnName(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
-    case Ipopt::Solve_Succeeded: return "solved";
-    case Ipopt::Solved_To_Acceptable_Level: return "solved to the acceptable level";
-    case Ipopt::Search_Direction_Becomes_Too_Small: return "search direction became too small";
-    case Ipopt::Diverging_Iterates: return "diverging iterates";
-    case Ipopt::User_Requested_Stop: return "stopped by the user";
-    case Ipopt::Maximum_Iterations_Exceeded: return "iteration limit reached";
-    case Ipopt::Maximum_CpuTime_Exceeded: return "time limit reached";
-    case Ipopt::Restoration_Failed: return "restoration failed";
-    case Ipopt::Error_In_Step_Computation: return "error in step computation";
-    case Ipopt::Invalid_Number_Detected: return "invalid number detected (non-finite cost)";
-    default: return "return status " + std::to_string(static_cast<int>(s));
+    case Ipopt::Solve_Succeeded:
+      return "solved";
+    case Ipopt::Solved_To_Acceptable_Level:
+      return "solved to the acceptable level";
+    case Ipopt::Search_Direction_Becomes_Too_Small:
+      return "search direction became too small";
+    case Ipopt::Diverging_Iterates:
+      return "diverging iterates";
+    case Ipopt::User_Requested_Stop:
+      return "stopped by the user";
+    case Ipopt::Maximum_Iterations_Exceeded:
+      return "iteration limit reached";
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return "time limit reached";
+    case Ipopt::Restoration_Failed:
+      return "restoration failed";
+    case Ipopt::Error_In_Step_Computation:
+      return "error in step computation";
+    case Ipopt::Invalid_Number_Detected:
+      return "invalid number detected (non-finite cost)";
+    default:
+      return "return status " + std::to_string(static_cast<int>(s));
   }
 }
 
 EstimationStatus StatusOf(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
     case Ipopt::Solve_Succeeded:
-    case Ipopt::Solved_To_Acceptable_Level: return EstimationStatus::kConverged;
+    case Ipopt::Solved_To_Acceptable_Level:
+      return EstimationStatus::kConverged;
     case Ipopt::Maximum_Iterations_Exceeded:
-    case Ipopt::Maximum_CpuTime_Exceeded: return EstimationStatus::kIterationLimit;
-    default: return EstimationStatus::kFailed;
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return EstimationStatus::kIterationLimit;
+    default:
+      return EstimationStatus::kFailed;
   }
 }
 
@@ -74,7 +88,8 @@ MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weight
   }
   run.status = StatusOf(status);
   run.message = "Ipopt: " + ReturnName(status);
-  run.details = {{"hessian", options.hessian}, {"ipopt_status", static_cast<int>(status)}, {"passes_over_data", *passes}};
+  run.details = {
+      {"hessian", options.hessian}, {"ipopt_status", static_cast<int>(status)}, {"passes_over_data", *passes}};
   return run;
 }
 

@@ -17,8 +17,8 @@ const OptionTable<LeastSquaresOptions>& LeastSquaresOptions::Table() {
           .Add("max_iterations", &O::max_iterations, "passes over the data that propose a step", AtLeast(0))
           .Add("parameter_tolerance", &O::parameter_tolerance,
                "stop when a step changes no parameter by more than this times its scale", Positive())
-          .Add("function_tolerance", &O::function_tolerance, "stop when a step lowers the cost by less than this fraction",
-               NonNegative())
+          .Add("function_tolerance", &O::function_tolerance,
+               "stop when a step lowers the cost by less than this fraction", NonNegative())
           .Add("gradient_tolerance", &O::gradient_tolerance,
                "stop when every column of J is orthogonal to the residuals within this cosine", NonNegative())
           .Add("initial_damping", &O::initial_damping, "initial Levenberg-Marquardt damping", NonNegative());

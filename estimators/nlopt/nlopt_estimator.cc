@@ -16,9 +16,10 @@ namespace {
 // Local algorithms that honour bound constraints (NLopt's documentation, "NLopt Algorithms").
 const std::vector<std::string>& SupportedAlgorithms() {
   static const std::vector<std::string> names = {
-      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",    "LD_CCSAQ",        "LD_VAR1",
-      "LD_VAR2",   "LD_TNEWTON", "LD_TNEWTON_PRECOND_RESTART", "LN_BOBYQA", "LN_COBYLA",
-      "LN_NEWUOA_BOUND", "LN_NELDERMEAD", "LN_SBPLX"};
+      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",          "LD_CCSAQ",
+      "LD_VAR1",   "LD_VAR2",   "LD_TNEWTON",      "LD_TNEWTON_PRECOND_RESTART",
+      "LN_BOBYQA", "LN_COBYLA", "LN_NEWUOA_BOUND", "LN_NELDERMEAD",
+      "LN_SBPLX"};
   return names;
 }
 
@@ -46,18 +47,30 @@ class Objective {
 
 std::string ResultName(nlopt::result r) {
   switch (r) {
-    case nlopt::FAILURE: return "generic failure";
-    case nlopt::INVALID_ARGS: return "invalid arguments";
-    case nlopt::OUT_OF_MEMORY: return "out of memory";
-    case nlopt::ROUNDOFF_LIMITED: return "roundoff limited";
-    case nlopt::FORCED_STOP: return "forced stop";
-    case nlopt::SUCCESS: return "success";
-    case nlopt::STOPVAL_REACHED: return "stopval reached";
-    case nlopt::FTOL_REACHED: return "function tolerance reached";
-    case nlopt::XTOL_REACHED: return "parameter tolerance reached";
-    case nlopt::MAXEVAL_REACHED: return "evaluation limit reached";
-    case nlopt::MAXTIME_REACHED: return "time limit reached";
-    default: return "result " + std::to_string(static_cast<int>(r));
+    case nlopt::FAILURE:
+      return "generic failure";
+    case nlopt::INVALID_ARGS:
+      return "invalid arguments";
+    case nlopt::OUT_OF_MEMORY:
+      return "out of memory";
+    case nlopt::ROUNDOFF_LIMITED:
+      return "roundoff limited";
+    case nlopt::FORCED_STOP:
+      return "forced stop";
+    case nlopt::SUCCESS:
+      return "success";
+    case nlopt::STOPVAL_REACHED:
+      return "stopval reached";
+    case nlopt::FTOL_REACHED:
+      return "function tolerance reached";
+    case nlopt::XTOL_REACHED:
+      return "parameter tolerance reached";
+    case nlopt::MAXEVAL_REACHED:
+      return "evaluation limit reached";
+    case nlopt::MAXTIME_REACHED:
+      return "time limit reached";
+    default:
+      return "result " + std::to_string(static_cast<int>(r));
   }
 }
 
@@ -92,10 +105,16 @@ MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weight
     case nlopt::SUCCESS:
     case nlopt::STOPVAL_REACHED:
     case nlopt::FTOL_REACHED:
-    case nlopt::XTOL_REACHED: run.status = EstimationStatus::kConverged; break;
+    case nlopt::XTOL_REACHED:
+      run.status = EstimationStatus::kConverged;
+      break;
     case nlopt::MAXEVAL_REACHED:
-    case nlopt::MAXTIME_REACHED: run.status = EstimationStatus::kIterationLimit; break;
-    default: run.status = EstimationStatus::kFailed; break;
+    case nlopt::MAXTIME_REACHED:
+      run.status = EstimationStatus::kIterationLimit;
+      break;
+    default:
+      run.status = EstimationStatus::kFailed;
+      break;
   }
   run.message = options.algorithm + ": " + ResultName(result);
   run.details = {{"algorithm", options.algorithm}, {"nlopt_result", static_cast<int>(result)}};

@@ -34,7 +34,7 @@ struct NloptOptions : ErrorModelEstimatorOptions {
   // Cost (and gradient) evaluations, each a pass over the data. SLSQP needs about 100; the derivative-free
   // BOBYQA about 250 per free parameter.
   int max_evaluations = 20000;
-  double max_time_seconds = 0.0;       // 0: no limit
+  double max_time_seconds = 0.0;  // 0: no limit
   // Stop when a step changes the cost by less than this fraction of it (NLopt ftol_rel).
   double function_tolerance = 1e-15;
   // Stop when a step changes every scaled variable by less than this (NLopt xtol_abs on y; 1 = one

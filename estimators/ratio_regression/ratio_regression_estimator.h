@@ -27,7 +27,7 @@ class RatioRegressionEstimator final : public Estimator {
   struct Options {
     // Arc fit (circle_fit, min_spread, min_curvature_ratio, max_iterations), as the geometric estimator.
     geometric::ArcFitOptions arc;
-    std::string marker;                 // as the geometric estimator
+    std::string marker;  // as the geometric estimator
     // Standard deviations: "propagation" (default), "bootstrap" or "none" (geometric/uncertainty.h).
     std::string stddev = "propagation";
     int bootstrap_samples = 200;

@@ -27,11 +27,11 @@
 //      (c_t + 2 dx^T b_t + dx^T A_t dx) / rows: the linearised prediction of the block.
 // The fold's RMS is the square root, per session, averaged over the sessions of the block: sessions weigh
 // alike, so that the few rows that re-register the base of a new campaign (the ones that show how the
-// model carries over to it) count as much as the campaign it was fitted on. A candidate's CV RMS is the mean of its K fold RMS and se their
-// standard deviation over sqrt(K). The simplest candidate whose CV RMS is within one se of the best
-// (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the
-// start robot with that candidate's terms: the identified robot holds only the chosen terms.
-// Deterministic: no randomness, folds from the row order.
+// model carries over to it) count as much as the campaign it was fitted on. A candidate's CV RMS is the mean of its K
+// fold RMS and se their standard deviation over sqrt(K). The simplest candidate whose CV RMS is within one se of the
+// best (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the start robot
+// with that candidate's terms: the identified robot holds only the chosen terms. Deterministic: no randomness, folds
+// from the row order.
 #include <string>
 #include <vector>
 
@@ -53,8 +53,8 @@ struct ModelSelectionOptions {
 };
 
 struct SelectionCandidate {
-  std::string name;         // "geometry", "+ gravity 2", "+ harmonic 1", ...
-  std::vector<int> terms;   // indices into start.joint_errors.terms, in file order
+  std::string name;        // "geometry", "+ gravity 2", "+ harmonic 1", ...
+  std::vector<int> terms;  // indices into start.joint_errors.terms, in file order
 };
 // The nested candidates of `start` (see above); the first is geometry, the last the full file.
 std::vector<SelectionCandidate> NestedCandidates(const Robot& start);

@@ -17,13 +17,12 @@ using testing::SourcePath;
 
 std::string Example(const std::string& file) { return SourcePath("examples/robots/" + file); }
 
-int LineCount(const std::string& text) {
-  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-}
+int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 std::vector<std::string> FilesIn(const std::string& folder) {
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+    names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -93,9 +92,10 @@ TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
                 .maxCoeff(),
             1e-9);
 
-  testing::WriteText(dir.path("prismatic.yaml"), "name: p\nconvention: mdh\nunits: {length: mm, angle: deg}\n"
-                                                 "joints:\n  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
-                                                 "  - {alpha: 90, a: 100, theta: 0, d: 0, type: prismatic}\n");
+  testing::WriteText(dir.path("prismatic.yaml"),
+                     "name: p\nconvention: mdh\nunits: {length: mm, angle: deg}\n"
+                     "joints:\n  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
+                     "  - {alpha: 90, a: 100, theta: 0, d: 0, type: prismatic}\n");
   testing::WriteText(dir.path("two.csv"), "q1_deg,q2_deg,x_mm,y_mm,z_mm,sweep\n0,0,100,0,0,1\n");
   const auto bad = RunKincal("identify --nominal " + dir.path("prismatic.yaml") + " --data " + dir.path("two.csv") +
                              " --method geometric --out " + dir.path("p_out.yaml"));
@@ -126,8 +126,8 @@ TEST(Cli, SimulateWritesAFileThatReadsBackAsTheLibrarysDataset) {
   }
   // The same command again gives the same bytes.
   const std::string again = dir.path("again.csv");
-  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " + Example("seed_identified.yaml") +
-                      " --protocol sweep --noise 10um --seed 7 --out " + again)
+  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " +
+                      Example("seed_identified.yaml") + " --protocol sweep --noise 10um --seed 7 --out " + again)
                 .exit_code,
             0);
   EXPECT_EQ(testing::ReadText(again), testing::ReadText(out));

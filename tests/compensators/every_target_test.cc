@@ -130,7 +130,8 @@ INSTANTIATE_TEST_SUITE_P(Iterative, EveryTarget, ::testing::Values("analytic_der
 
 TEST(BranchRestartOptions, ReadAndValidated) {
   const auto c = Compensators().Create(
-      "jacobian", YAML::Load("{branch_restarts: false, same_branch_distance: 0.25, other_branches: false, random_starts: 7}"));
+      "jacobian",
+      YAML::Load("{branch_restarts: false, same_branch_distance: 0.25, other_branches: false, random_starts: 7}"));
   ASSERT_NE(c, nullptr);
   for (const char* bad : {"{same_branch_distance: 0}", "{random_starts: -1}", "{other_branches: 3}"}) {
     EXPECT_THROW(Compensators().Create("analytic_derivative", YAML::Load(bad)), std::invalid_argument) << bad;

@@ -25,7 +25,7 @@ Robot RealArm() {
     t.orders = std::move(orders);
     return t;
   };
-  robot.joint_errors.terms = {term(T::kGravity, 1), term(T::kGravity, 2), term(T::kHarmonic, 0, {1, 2}),
+  robot.joint_errors.terms = {term(T::kGravity, 1),  term(T::kGravity, 2),  term(T::kHarmonic, 0, {1, 2}),
                               term(T::kBacklash, 0), term(T::kBacklash, 3), term(T::kApproach, 1),
                               term(T::kApproach, 4)};
   robot.joint_errors.Bind(robot.model());
@@ -74,8 +74,8 @@ TEST_P(JointErrorCompensation, TheRealArmReachesEveryTargetOfAProgram) {
     worst = std::max(worst, (reached.translation() - target.T_meas_tool.translation()).norm());
     const Eigen::VectorXd blind = ReadingsFromActual(nominal, geometric_only, r.q_actual, nullptr);
     const Eigen::VectorXd q_blind = ActualFromReadings(nominal, real, blind, previous);
-    worst_blind = std::max(worst_blind, (real.model().ForwardKinematics(q_blind).translation() -
-                                         target.T_meas_tool.translation()).norm());
+    worst_blind = std::max(
+        worst_blind, (real.model().ForwardKinematics(q_blind).translation() - target.T_meas_tool.translation()).norm());
     EXPECT_LT(RotationAngleBetween(reached.linear(), target.T_meas_tool.linear()), 1e-8) << t;
   }
   EXPECT_LT(worst, 1e-9) << GetParam();

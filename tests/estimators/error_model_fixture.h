@@ -91,9 +91,7 @@ inline Robot RunEstimator(const std::string& name, const Robot& nominal, const D
 
 class ErrorModelEstimatorTest : public ::testing::TestWithParam<std::string> {
  protected:
-  void SetUp() override {
-    ASSERT_TRUE(Estimators().IsRegistered(GetParam())) << GetParam() << " is not registered";
-  }
+  void SetUp() override { ASSERT_TRUE(Estimators().IsRegistered(GetParam())) << GetParam() << " is not registered"; }
   Robot Run(const Dataset& data, const Robot& nominal, EstimationReport* report) const {
     return RunEstimator(GetParam(), nominal, data, report, FixtureOptions(GetParam()));
   }

@@ -62,7 +62,9 @@ TEST(JointErrorModel, JacobianMatchesCentralDifferencesForEveryType) {
       Measurement& m = c.data.rows[i];
       if (i % 3 == 0) m.marker = "A";
       if (i % 4 == 1) m.session = 1;
-      if (i % 2 == 0) m.orientation = Eigen::Quaterniond(PoseFromXyzRpy(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.2, i)).linear());
+      if (i % 2 == 0)
+        m.orientation =
+            Eigen::Quaterniond(PoseFromXyzRpy(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.2, i)).linear());
       if (!encoders) m.encoders.clear();
     }
     start.session_bases[1] = PoseFromXyzRpy(Eigen::Vector3d(1, 2, 0.5), Eigen::Vector3d(0.1, 0.2, 0.3));

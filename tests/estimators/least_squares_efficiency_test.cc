@@ -46,8 +46,7 @@ TEST(LeastSquaresEfficiency, RmsErrorMatchesTheCramerRaoBound) {
   }
   ASSERT_EQ(order.size(), 33u);
   double sum_ratio = 0.0;
-  std::printf("%-12s %14s %14s %14s %8s %8s\n", "parameter", "truth", "RMS error", "predicted sd", "bias/sd",
-              "RMS/sd");
+  std::printf("%-12s %14s %14s %14s %8s %8s\n", "parameter", "truth", "RMS error", "predicted sd", "bias/sd", "RMS/sd");
   for (const auto& name : order) {
     const Tally& t = tally[name];
     ASSERT_EQ(t.count, kTrials) << name;

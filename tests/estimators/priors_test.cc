@@ -178,7 +178,8 @@ TEST(Priors, ATighterPriorKeepsAWeakParameterCloserToItsStart) {
 }
 
 TEST(Priors, BadPriorOptionsAreOneLineErrors) {
-  for (const char* bad : {"{prior: maybe}", "{prior: {length: 1parsec}}", "{prior: {length: -1mm}}", "{prior: [1, 2]}"}) {
+  for (const char* bad :
+       {"{prior: maybe}", "{prior: {length: 1parsec}}", "{prior: {length: -1mm}}", "{prior: [1, 2]}"}) {
     EXPECT_THROW(Estimators().Create("least_squares", YAML::Load(bad)), std::invalid_argument) << bad;
   }
   const Robot nominal = UrNominal();

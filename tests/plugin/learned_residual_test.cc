@@ -96,14 +96,16 @@ TEST_F(ResidualModelTest, PoseIsTheInnerPosePlusTheResidualAndTheJacobianItsDeri
   for (bool tool_frame : {false, true}) {
     const ResidualModel model(robot_.model().Clone(), residual_, tool_frame);
     const Eigen::Isometry3d T_inner = robot_.model().ForwardKinematics(q), T = model.ForwardKinematics(q);
-    const Eigen::Matrix3d R = tool_frame ? Eigen::Matrix3d(T_inner.linear()) : Eigen::Matrix3d(robot_.model().base().linear());
+    const Eigen::Matrix3d R =
+        tool_frame ? Eigen::Matrix3d(T_inner.linear()) : Eigen::Matrix3d(robot_.model().base().linear());
     EXPECT_LT((T.translation() - T_inner.translation() - R * residual_->Predict(q)).norm(), 1e-15);
     EXPECT_TRUE(T.linear().isApprox(T_inner.linear(), 1e-15));
     EXPECT_TRUE(model.FramePoses(q).back().isApprox(T, 1e-12));
     const Eigen::MatrixXd numeric = kincal::testing::CentralDifference(
         [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return model.ForwardKinematics(v).translation(); }, q, 1e-6);
     const double tolerance = 1e-9;
-    EXPECT_LT((model.JointJacobian(q, Eigen::Vector3d::Zero()).topRows<3>() - numeric).cwiseAbs().maxCoeff(), tolerance);
+    EXPECT_LT((model.JointJacobian(q, Eigen::Vector3d::Zero()).topRows<3>() - numeric).cwiseAbs().maxCoeff(),
+              tolerance);
     const auto dT = model.PoseDerivatives(q);
     for (int i = 0; i < 6; ++i) EXPECT_LT((dT[i].block<3, 1>(0, 3) - numeric.col(i)).norm(), tolerance);
   }
@@ -119,14 +121,17 @@ TEST_F(ResidualModelTest, ParametersAreTheInnerModelsAndClonesKeepTheResidual) {
   const auto clone = model.Clone();
   EXPECT_TRUE(clone->ForwardKinematics(q).isApprox(model.ForwardKinematics(q), 1e-15));
   EXPECT_LT((model.ForwardKinematics(q).translation() - moved.model().ForwardKinematics(q).translation() -
-             residual_->Predict(q)).norm(), 1e-15);
+             residual_->Predict(q))
+                .norm(),
+            1e-15);
 }
 
 // Compensation needs no method of its own: a compensator that solves the identified arm's forward
 // kinematics (jacobian) inverts model plus residual.
 TEST_F(ResidualModelTest, BuiltInCompensatorInvertsModelPlusResidual) {
   const kincal::Robot nominal = kincal::testing::SeedNominal();
-  const kincal::Robot learned = robot_.WithModel(std::make_unique<ResidualModel>(robot_.model().Clone(), residual_, false));
+  const kincal::Robot learned =
+      robot_.WithModel(std::make_unique<ResidualModel>(robot_.model().Clone(), residual_, false));
   auto compensator = kincal::Compensators().Create("jacobian");
   compensator->Prepare(nominal, learned);
   std::mt19937_64 rng(5);
@@ -139,10 +144,13 @@ TEST_F(ResidualModelTest, BuiltInCompensatorInvertsModelPlusResidual) {
     target.T_meas_tool = learned.model().ForwardKinematics(q);
     const auto result = compensator->Compensate(target);
     ASSERT_EQ(result.report.status, kincal::CompensationStatus::kConverged);
-    EXPECT_LT((learned.model().ForwardKinematics(result.q_actual).translation() - target.T_meas_tool.translation()).norm(), 1e-9);
+    EXPECT_LT(
+        (learned.model().ForwardKinematics(result.q_actual).translation() - target.T_meas_tool.translation()).norm(),
+        1e-9);
     // Without the residual the same joints miss by the residual.
-    moved = std::max(moved, (robot_.model().ForwardKinematics(result.q_actual).translation() -
-                             target.T_meas_tool.translation()).norm());
+    moved = std::max(
+        moved,
+        (robot_.model().ForwardKinematics(result.q_actual).translation() - target.T_meas_tool.translation()).norm());
   }
   EXPECT_GT(moved, 1e-5);
 }
@@ -163,8 +171,8 @@ TEST_F(ResidualModelTest, ApproachResidualMovesTheMarkerByItsResidualAndIsInvert
   kincal::Robot plain = robot_;
   plain.velocity_limits = Eigen::VectorXd::Constant(n, 2.0);
   const Eigen::Vector3d p_tool(0.01, -0.02, 0.15);
-  const Eigen::VectorXd spread = (Eigen::VectorXd(2 * n) << Eigen::VectorXd::Ones(n), Eigen::VectorXd::Constant(n, 1.5))
-                                     .finished();
+  const Eigen::VectorXd spread =
+      (Eigen::VectorXd(2 * n) << Eigen::VectorXd::Ones(n), Eigen::VectorXd::Constant(n, 1.5)).finished();
   const auto correction = std::make_shared<ApproachResidual>(residual, spread, p_tool);
   const kincal::Robot corrected =
       plain.WithModel(std::make_unique<ResidualModel>(plain.model().Clone(), nullptr, false, correction));
@@ -175,8 +183,8 @@ TEST_F(ResidualModelTest, ApproachResidualMovesTheMarkerByItsResidualAndIsInvert
     for (int j = 0; j < n; ++j) readings[j] = angle(rng), previous[j] = angle(rng);
     const Eigen::VectorXd q_plain = kincal::ActualFromReadings(plain, plain, readings, &previous);
     const Eigen::VectorXd q = kincal::ActualFromReadings(plain, corrected, readings, &previous);
-    const Eigen::Vector3d moved = corrected.model().ForwardKinematics(q) * p_tool -
-                                  corrected.model().ForwardKinematics(q_plain) * p_tool;
+    const Eigen::Vector3d moved =
+        corrected.model().ForwardKinematics(q) * p_tool - corrected.model().ForwardKinematics(q_plain) * p_tool;
     const Eigen::Vector3d r = corrected.model().base().linear() * correction->Residual(corrected, q_plain, &previous);
     EXPECT_GT(r.norm(), 1e-6);
     // First order: the second is about |r|^2 / reach, under 1e-6 m here.
@@ -209,8 +217,8 @@ TEST(LearnedResidualRealData, LowersTheHeldOutErrorOfTheWristModelOnTheIrb120) {
   const auto report = estimator.Estimate(wrist, nominal, train, &learned);
   const double before = kincal::EvaluatePredictions(nominal, wrist, test).position_stats.rms;
   const double after = kincal::EvaluatePredictions(nominal, learned, test).position_stats.rms;
-  std::printf("IRB 120 reflector 1, held-out RMS: wrist model %.4f mm, + learned residual %.4f mm (%s)\n",
-              before * 1e3, after * 1e3, report.message.c_str());
+  std::printf("IRB 120 reflector 1, held-out RMS: wrist model %.4f mm, + learned residual %.4f mm (%s)\n", before * 1e3,
+              after * 1e3, report.message.c_str());
   EXPECT_LT(before, 0.250e-3);
   EXPECT_LT(after, before - 1.5e-6);
 }
@@ -241,8 +249,9 @@ TEST(LearnedResidualRealData, ApproachFeaturesReachTheTargetOnTheIrb120) {
   const auto report = estimator.Estimate(wrist, nominal, train, &learned);
   const double before = kincal::EvaluatePredictions(nominal, wrist, test).position_stats.rms;
   const double after = kincal::EvaluatePredictions(nominal, learned, test).position_stats.rms;
-  std::printf("IRB 120 reflector 1, held-out RMS: wrist model %.4f mm, + residual on joints and approach %.4f mm (%s)\n",
-              before * 1e3, after * 1e3, report.message.c_str());
+  std::printf(
+      "IRB 120 reflector 1, held-out RMS: wrist model %.4f mm, + residual on joints and approach %.4f mm (%s)\n",
+      before * 1e3, after * 1e3, report.message.c_str());
   EXPECT_LT(before, 0.250e-3);
   EXPECT_LE(after, 0.235e-3);
 }

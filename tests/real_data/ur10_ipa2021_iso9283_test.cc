@@ -50,11 +50,12 @@ class Ur10Iso9283 : public ::testing::Test {
       goal_.push_back(Eigen::Vector3d(std::stod(goals[i][0]), std::stod(goals[i][1]), std::stod(goals[i][2])));
     }
     ASSERT_EQ(goal_.size(), all_.rows.size());
-    for (size_t i = 0; i < all_.rows.size(); ++i) (all_.rows[i].split == Split::kTest ? test_rows_ : train_rows_).push_back(i);
+    for (size_t i = 0; i < all_.rows.size(); ++i)
+      (all_.rows[i].split == Split::kTest ? test_rows_ : train_rows_).push_back(i);
   }
   TempDir dir_;
   Dataset all_;
-  std::vector<Eigen::Vector3d> goal_;        // commanded T-Mac position, robot base frame (m)
+  std::vector<Eigen::Vector3d> goal_;  // commanded T-Mac position, robot base frame (m)
   std::vector<size_t> train_rows_, test_rows_;
 };
 

@@ -117,15 +117,15 @@ INSTANTIATE_TEST_SUITE_P(
                       TableCase{"D", 4, kGravity25, 7.5357, 133.799}, TableCase{"D", 10, kHarmonic, 5.3826, 95.462},
                       TableCase{"D", 22, kApproach, 1.4207, 24.386}, TableCase{"BC", 0, kGeometry, 0.6289, 1.8892},
                       TableCase{"BC", 2, kGravity23, 0.5964, 1.6945}, TableCase{"BC", 4, kGravity25, 0.6166, 1.7021},
-                      TableCase{"BC", 10, kHarmonic, 1.3410, 11.768, 0.01, 0.5}, TableCase{"BC", 22, kApproach, 0.8459, 2.6031},
-                      TableCase{"A", 0, kGeometry, 0.4406, 1.1444}, TableCase{"A", 2, kGravity23, 0.4196, 1.2247},
-                      TableCase{"A", 4, kGravity25, 0.4203, 1.1990}, TableCase{"A", 10, kHarmonic, 0.4067, 1.1719},
-                      TableCase{"A", 22, kApproach, 0.4055, 1.1503}, TableCase{"B", 0, kGeometry, 0.4594, 2.0306},
-                      TableCase{"B", 2, kGravity23, 0.4116, 1.9895}, TableCase{"B", 4, kGravity25, 0.4126, 1.9823},
-                      TableCase{"B", 10, kHarmonic, 0.5165, 1.9455}, TableCase{"B", 22, kApproach, 0.5176, 1.7485},
-                      TableCase{"C", 0, kGeometry, 0.4948, 1.5356}, TableCase{"C", 2, kGravity23, 0.4870, 1.5325},
-                      TableCase{"C", 4, kGravity25, 0.4894, 1.5446}, TableCase{"C", 10, kHarmonic, 0.4789, 1.5420},
-                      TableCase{"C", 22, kApproach, 0.4785, 1.5715}),
+                      TableCase{"BC", 10, kHarmonic, 1.3410, 11.768, 0.01, 0.5},
+                      TableCase{"BC", 22, kApproach, 0.8459, 2.6031}, TableCase{"A", 0, kGeometry, 0.4406, 1.1444},
+                      TableCase{"A", 2, kGravity23, 0.4196, 1.2247}, TableCase{"A", 4, kGravity25, 0.4203, 1.1990},
+                      TableCase{"A", 10, kHarmonic, 0.4067, 1.1719}, TableCase{"A", 22, kApproach, 0.4055, 1.1503},
+                      TableCase{"B", 0, kGeometry, 0.4594, 2.0306}, TableCase{"B", 2, kGravity23, 0.4116, 1.9895},
+                      TableCase{"B", 4, kGravity25, 0.4126, 1.9823}, TableCase{"B", 10, kHarmonic, 0.5165, 1.9455},
+                      TableCase{"B", 22, kApproach, 0.5176, 1.7485}, TableCase{"C", 0, kGeometry, 0.4948, 1.5356},
+                      TableCase{"C", 2, kGravity23, 0.4870, 1.5325}, TableCase{"C", 4, kGravity25, 0.4894, 1.5446},
+                      TableCase{"C", 10, kHarmonic, 0.4789, 1.5420}, TableCase{"C", 22, kApproach, 0.4785, 1.5715}),
     [](const ::testing::TestParamInfo<TableCase>& info) {
       return info.param.series + "_terms" + std::to_string(info.param.terms);
     });
@@ -219,7 +219,9 @@ FullPose FitFullPose(const std::string& data_path, const std::string& options) {
   const Robot nominal = Ur10WithTerms(0);
   Robot identified;
   FullPose f;
-  f.report = Estimators().Create("least_squares", YAML::Load(options))->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  f.report = Estimators()
+                 .Create("least_squares", YAML::Load(options))
+                 ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
   const PredictionErrors e = EvaluatePredictions(nominal, identified, all.Subset(Split::kTest));
   f.position = e.position_stats;
   f.orientation = e.orientation_stats;
@@ -230,8 +232,9 @@ TEST(Ur10FullPose, SeriesDPositionAndOrientationHeldOut) {
   KINCAL_UR10_DATA_OR_SKIP();
   const std::string d = Converted("d_full", Series(kUr10D) + " --pose full --split even-odd");
   const FullPose f = FitFullPose(d, "max_iterations: 200");
-  std::printf("series D, full pose (orientation_length 0.1 m/rad): held out %.4f mm RMS (max %.4f), %.4f mrad RMS (max %.4f)\n",
-              f.position.rms * 1e3, f.position.max * 1e3, f.orientation.rms * 1e3, f.orientation.max * 1e3);
+  std::printf(
+      "series D, full pose (orientation_length 0.1 m/rad): held out %.4f mm RMS (max %.4f), %.4f mrad RMS (max %.4f)\n",
+      f.position.rms * 1e3, f.position.max * 1e3, f.orientation.rms * 1e3, f.orientation.max * 1e3);
   EXPECT_EQ(f.report.status, EstimationStatus::kConverged) << f.report.BriefReport();
   EXPECT_EQ(f.orientation.count, 316);
   EXPECT_NEAR(f.position.rms * 1e3, 0.4072, 0.002);

@@ -43,7 +43,7 @@ TEST(BigData, AMillionRowsAreReadPredictedAndWritten) {
   long lines = 0;
   std::string line;
   while (std::getline(in, line)) lines += line.empty() || line[0] != '#';  // '#' lines: provenance comments
-  EXPECT_EQ(lines, 1000001);  // the header and one row per dataset row
+  EXPECT_EQ(lines, 1000001);                                               // the header and one row per dataset row
 }
 
 TEST(BigData, TenMillionRowsBeyondTheMemoryAreRefusedWithAMessage) {

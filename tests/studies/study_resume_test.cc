@@ -30,7 +30,8 @@ namespace {
 using testing::ReadText;
 using testing::TempDir;
 
-const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv", "iso9283.csv"};
+const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
+                                           "iso9283.csv"};
 
 std::string ReportWithoutTimes(const std::string& dir) {
   const std::string report = ReadText(dir + "/report.md");
@@ -92,7 +93,7 @@ TEST_F(StudyResumeTest, StoppedThenResumedEqualsUninterruptedAndRedoesNothing) {
   EXPECT_EQ(first.items_finished, 3);
   EXPECT_EQ(Records(dir), 3);
   EXPECT_FALSE(std::filesystem::exists(dir + "/results.csv"));  // nothing half written
-  const StudyRunSummary second = Run(dir, 2);  // stopped again
+  const StudyRunSummary second = Run(dir, 2);                   // stopped again
   EXPECT_TRUE(second.stopped);
   EXPECT_EQ(second.items_resumed, 3);
   EXPECT_EQ(second.items_finished, 2);
@@ -277,8 +278,8 @@ TEST(StudyFailuresTest, ThrowingOrNanMethodsMarkTheirItemsFailedAndTheStudyGoesO
       } else if (c == "throws") {
         EXPECT_NE(why.find("compensator throws: an exception that is not a std::exception"), std::string::npos) << why;
       } else {
-        EXPECT_NE(why.find("compensator nan: returned a non-finite solution at target 1 of targets"),
-                  std::string::npos) << why;
+        EXPECT_NE(why.find("compensator nan: returned a non-finite solution at target 1 of targets"), std::string::npos)
+            << why;
       }
     } else {
       ++scored;

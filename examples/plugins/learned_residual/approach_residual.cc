@@ -27,8 +27,7 @@ Eigen::Vector3d ApproachResidual::Residual(const kincal::Robot& robot, const Eig
 }
 
 Eigen::VectorXd ApproachResidual::JointOffset(const kincal::Robot& robot, const Eigen::VectorXd& q_errors,
-                                              const Eigen::VectorXd& qbar,
-                                              const Eigen::VectorXd* qbar_previous) const {
+                                              const Eigen::VectorXd& qbar, const Eigen::VectorXd* qbar_previous) const {
   const Eigen::Vector3d r_meas = robot.model().base().linear() * Residual(robot, qbar, qbar_previous);
   const Eigen::MatrixXd J = robot.model().JointJacobian(q_errors, p_tool_point_).topRows(3);
   return J.transpose() * (J * J.transpose()).ldlt().solve(r_meas);

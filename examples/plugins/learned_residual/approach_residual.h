@@ -9,7 +9,8 @@
 // r (in the robot's base frame) becomes the least-norm joint offsets that move the reference point (the
 // marker the residual was measured at) by r to first order, dq = J^T (J J^T)^-1 R_meas_base r, J the
 // point's 3 x n position Jacobian at q. r is sub-millimetre, so the neglected second order (about
-// |r|^2 / reach) is below a micrometre. Compensation inverts it with the joint errors (robot/joint_readings.h, ReadingsFromActual).
+// |r|^2 / reach) is below a micrometre. Compensation inverts it with the joint errors (robot/joint_readings.h,
+// ReadingsFromActual).
 #include <memory>
 
 #include "kernel_ridge.h"

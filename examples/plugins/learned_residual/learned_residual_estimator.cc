@@ -49,10 +49,10 @@ void LearnedResidualEstimator::DoEstimate(const kincal::Robot& start, const kinc
   for (int j = 0; j < residual->length_scales().size(); ++j) {
     scales += (j ? " " : "") + std::to_string(residual->length_scales()[j]);
   }
-  report->message = "kernel ridge regression of the position residual, length scales " + scales +
-                    " rad, lambda " + std::to_string(residual->lambda());
-  report->details["length_scales_rad"] = std::vector<double>(residual->length_scales().data(),
-      residual->length_scales().data() + residual->length_scales().size());
+  report->message = "kernel ridge regression of the position residual, length scales " + scales + " rad, lambda " +
+                    std::to_string(residual->lambda());
+  report->details["length_scales_rad"] = std::vector<double>(
+      residual->length_scales().data(), residual->length_scales().data() + residual->length_scales().size());
   report->details["lambda"] = residual->lambda();
   report->details["cv_rms_m"] = residual->cv_rms();
   report->details["cv_rms_mean_only_m"] = residual->cv_rms_mean_only();
@@ -97,11 +97,12 @@ void LearnedResidualEstimator::EstimateWithApproach(const kincal::Robot& start, 
   for (int j = 0; j < residual->length_scales().size(); ++j) {
     scales += (j ? " " : "") + std::to_string(residual->length_scales()[j]);
   }
-  report->message = "kernel ridge regression of the position residual on the readings and approach speeds, "
-                    "as a joint-level correction; length scales " + scales + " (rad, speed spreads), lambda " +
-                    std::to_string(residual->lambda());
-  report->details["length_scales"] = std::vector<double>(residual->length_scales().data(),
-      residual->length_scales().data() + residual->length_scales().size());
+  report->message =
+      "kernel ridge regression of the position residual on the readings and approach speeds, "
+      "as a joint-level correction; length scales " +
+      scales + " (rad, speed spreads), lambda " + std::to_string(residual->lambda());
+  report->details["length_scales"] = std::vector<double>(
+      residual->length_scales().data(), residual->length_scales().data() + residual->length_scales().size());
   report->details["speed_spreads"] = std::vector<double>(spread.data() + dof, spread.data() + 2 * dof);
   report->details["lambda"] = residual->lambda();
   report->details["cv_rms_m"] = residual->cv_rms();
@@ -146,4 +147,3 @@ KernelRidgeOptions ReadLearnedResidualOptions(const YAML::Node& node, bool* in_t
 }
 
 }  // namespace kincal_learned
-

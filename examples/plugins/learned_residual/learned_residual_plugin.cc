@@ -11,7 +11,8 @@
 KINCAL_PLUGIN(registrar) {
   registrar.AddEstimator(
       "learned_residual",
-      "plugin: kernel ridge regression (Gaussian-process mean) of the position residual on the joint angles (optionally the approach speeds), "
+      "plugin: kernel ridge regression (Gaussian-process mean) of the position residual on the joint angles "
+      "(optionally the approach speeds), "
       "on top of the robot it receives; hyper-parameters by cross-validation on the training rows",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
         bool in_tool_frame = false, with_approach = false;

@@ -4,7 +4,9 @@ namespace kincal_learned {
 
 ResidualModel::ResidualModel(std::unique_ptr<kincal::KinematicModel> inner, std::shared_ptr<const KernelRidge> residual,
                              bool in_tool_frame, std::shared_ptr<const ApproachResidual> approach)
-    : inner_(std::move(inner)), residual_(std::move(residual)), in_tool_frame_(in_tool_frame),
+    : inner_(std::move(inner)),
+      residual_(std::move(residual)),
+      in_tool_frame_(in_tool_frame),
       approach_(std::move(approach)) {
   std::vector<kincal::JointType> types;
   for (int i = 0; i < inner_->dof(); ++i) types.push_back(inner_->joint_type(i));
