@@ -20,6 +20,7 @@
 #include "framework/atomic_file.h"
 #include "compensators/compensation_targets.h"
 #include "compensators/compensator.h"
+#include "compensators/program.h"
 #include "framework/dataset.h"
 #include "framework/error.h"
 #include "robot/robot_file.h"
@@ -27,12 +28,14 @@
 namespace kincal::app {
 
 void AddCompensateCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
+  auto* cmd =
+      app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
   struct Args {
     std::string nominal, identified, targets, method, options, out, frame = "meas";
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")->required();
+  cmd->add_option("--nominal", a->nominal, "the controller's robot file (its inverse kinematics and ratios)")
+      ->required();
   cmd->add_option("--identified", a->identified, "the identified (real) robot file")->required();
   cmd->add_option("--targets", a->targets, "targets (CSV): x_mm,y_mm,z_mm[,qw,qx,qy,qz][,q1_deg..qN_deg seeds]")
       ->required();
@@ -62,19 +65,13 @@ void AddCompensateCommand(CLI::App& app) {
     const auto t_read = Clock::now();
     NamingFile(a->identified, [&] { compensator->Prepare(nominal, identified); });
     const auto t_prepared = Clock::now();
-    std::vector<CompensationResult> results;
-    results.reserve(targets.size());
     // The targets are a program: each is reached from the one before (its commands), unless the file
     // gives the pose the arm comes from (from_q columns). Joint errors of the move depend on it.
-    for (size_t i = 0; i < targets.size(); ++i) {
-      CompensationTarget target = targets[i];
-      if (data.rows[i].from_q) {
-        target.previous_command = *data.rows[i].from_q;
-      } else if (i > 0) {
-        target.previous_command = results.back().q_command;
-      }
-      results.push_back(compensator->Compensate(target));
+    std::vector<CompensationTarget> program = targets;
+    for (size_t i = 0; i < program.size(); ++i) {
+      if (data.rows[i].from_q) program[i].previous_command = *data.rows[i].from_q;
     }
+    const std::vector<CompensationResult> results = CompensateProgram(*compensator, program);
     const auto t_solved = Clock::now();
 
     const int n = nominal.dof();
@@ -96,7 +93,8 @@ void AddCompensateCommand(CLI::App& app) {
       out.append(buffer, end);
     };
     for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
-    if (drives) for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
+    if (drives)
+      for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
     out += "status,iterations,position_error_" + length.name + ",orientation_error_deg,seed_computed\n";
     for (const CompensationResult& r : results) {
       for (int i = 0; i < n; ++i) {

@@ -25,7 +25,8 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_option("--out", a->out, "output folder (default ./kincal-demo)");
   cmd->add_option("--trials", a->demo.trials, "Monte Carlo trials (default 3)");
   cmd->add_option("--targets", a->demo.extra_targets, "random targets besides the seed's 10 (default 1000)");
-  cmd->add_option("--stops", a->demo.stops, "sweep stops per joint; the random dataset has 6 x stops poses (default 20)");
+  cmd->add_option("--stops", a->demo.stops,
+                  "sweep stops per joint; the random dataset has 6 x stops poses (default 20)");
   cmd->add_option("--seed", a->demo.seed, "random seed (default 1)");
   cmd->add_option("--threads", a->threads, "worker threads (default: every core)");
   cmd->add_flag("--no-iso", a->no_iso, "leave out the ISO 9283 cube");

@@ -52,8 +52,7 @@ Eigen::Isometry3d ParsePose(const std::string& option, const std::string& text) 
 void AddFilterCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("filter", "a robot program with its targets compensated for the identified robot");
   struct Args {
-    std::string nominal, identified, program, out, format, method = "analytic_derivative", options, work_object,
-        tool;
+    std::string nominal, identified, program, out, format, method = "analytic_derivative", options, work_object, tool;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "the controller's robot file")->required();
@@ -86,8 +85,8 @@ void AddFilterCommand(CLI::App& app) {
     WriteFileAtomically(a->out, result.text);
     const FilterReport& r = result.report;
     for (const std::string& line : r.not_reached) std::cerr << "not filtered: " << line << "\n";
-    std::cout << format->name() << ": " << r.pose_targets << " Cartesian and " << r.joint_targets
-              << " joint targets; " << r.filtered << " filtered, " << r.not_reached.size() << " kept as written";
+    std::cout << format->name() << ": " << r.pose_targets << " Cartesian and " << r.joint_targets << " joint targets; "
+              << r.filtered << " filtered, " << r.not_reached.size() << " kept as written";
     if (r.branch_changed) std::cout << ", " << r.branch_changed << " on another branch than the one named";
     std::cout << "; max error of the identified arm " << r.max_position_error * 1e3 << " mm, "
               << r.max_orientation_error * 180 / M_PI << " deg; wrote " << a->out << " ("

@@ -34,7 +34,16 @@ std::vector<YAML::Node> OptionsPerMethod(const YAML::Node& root, const std::vect
   if (!keyed && methods.size() > 1) {
     ThrowInputError(path, 1, 1, "with several methods, the options file must be keyed by method name");
   }
-  for (size_t i = 0; i < methods.size(); ++i) out[i] = keyed ? root[methods[i]] : root;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    if (!keyed) {
+      out[i] = root;
+      continue;
+    }
+    // A method missing from the file gets no options (a null node): a const map's operator[] returns an
+    // invalid node for a missing key, which every later use of it throws on.
+    const YAML::Node n = root[methods[i]];
+    if (n.IsDefined()) out[i] = n;
+  }
   return out;
 }
 
@@ -92,7 +101,10 @@ void AddIdentifyCommand(CLI::App& app) {
       last["select"] = true;
     }
     for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
-      NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
+      const auto estimator = NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
+      // A robot the method cannot start from names the robot file (the first stage starts from it; later
+      // stages from its result, in the same convention).
+      NamingFile(a->nominal, [&] { estimator->CheckStart(nominal); });
     }
 
     const Dataset train = all.HasSplit() ? all.Subset(Split::kTrain) : all;
@@ -126,29 +138,33 @@ void AddIdentifyCommand(CLI::App& app) {
       const PredictionErrors before = EvaluatePredictions(nominal, registered, heldout);
       const PredictionErrors after = EvaluatePredictions(nominal, identified, heldout);
       const double mm = 1e3;
-      std::printf("held-out (%d rows): position error mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal registered on "
-                  "the training rows: RMS %.4f mm, max %.4f mm)\n",
-                  after.position_stats.count, after.position_stats.mean * mm, after.position_stats.rms * mm,
-                  after.position_stats.max * mm, before.position_stats.rms * mm, before.position_stats.max * mm);
+      std::printf(
+          "held-out (%d rows): position error mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal registered on "
+          "the training rows: RMS %.4f mm, max %.4f mm)\n",
+          after.position_stats.count, after.position_stats.mean * mm, after.position_stats.rms * mm,
+          after.position_stats.max * mm, before.position_stats.rms * mm, before.position_stats.max * mm);
       json["validation"] = {{"unit", "mm"},
                             {"identified", StatsJson(after.position_stats, mm)},
                             {"nominal", StatsJson(before.position_stats, mm)},
                             {"nominal_unregistered", StatsJson(unregistered.position_stats, mm)}};
       if (reports.back().details.contains("prediction_covariance")) {
         // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
-        const PredictionCovariance cov = PredictionCovariance::FromJson(reports.back().details["prediction_covariance"]);
+        const PredictionCovariance cov =
+            PredictionCovariance::FromJson(reports.back().details["prediction_covariance"]);
         const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
         const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
-        std::printf("held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
-                    "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
-                    check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
-                    100.0 * check.coverage_1d);
+        std::printf(
+            "held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
+            "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
+            check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
+            100.0 * check.coverage_1d);
         json["validation"]["uncertainty"] = check.ToJson();
       }
       if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
-        std::printf("held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
-                    after.orientation_stats.count, after.orientation_stats.mean * 1e3,
-                    after.orientation_stats.rms * 1e3, after.orientation_stats.max * 1e3);
+        std::printf(
+            "held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
+            after.orientation_stats.count, after.orientation_stats.mean * 1e3, after.orientation_stats.rms * 1e3,
+            after.orientation_stats.max * 1e3);
         json["validation"]["orientation"] = {{"unit", "mrad"}, {"identified", StatsJson(after.orientation_stats, 1e3)}};
       }
     }

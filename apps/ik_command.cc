@@ -24,7 +24,8 @@
 namespace kincal::app {
 
 void AddIkCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("ik", "joint solutions of a robot for target poses (every branch in closed form where possible)");
+  auto* cmd = app.add_subcommand(
+      "ik", "joint solutions of a robot for target poses (every branch in closed form where possible)");
   struct Args {
     std::string robot, targets, out;
     bool all_branches = false;

@@ -50,6 +50,10 @@ int main(int argc, char** argv) {
   } catch (const YAML::Exception& e) {
     std::cerr << "kincal: " << kincal::OneLine(e.what()) << "\n";
     return 2;
+  } catch (const kincal::IoError& e) {
+    // An output that cannot be written (a full disk, permissions): the file and the system's reason.
+    std::cerr << "kincal: " << e.what() << "\n";
+    return 2;
   } catch (const std::filesystem::filesystem_error& e) {
     // A folder that cannot be created or read (permissions, a file in the way, a full disk).
     std::cerr << "kincal: " << e.path1().string() << ": " << e.code().message() << "\n";

@@ -1,35 +1,80 @@
-// kincal methods : every model, estimator and compensator, with availability.
+// kincal methods : every model, estimator and compensator; with --options NAME, the options of the
+// estimator or compensator NAME (key, type, default, doc), from the declaration its options are read by.
+#include <algorithm>
 #include <iostream>
+#include <memory>
 
 #include "apps/commands.h"
 #include "compensators/compensator.h"
 #include "estimators/estimator.h"
+#include "framework/error.h"
 #include "models/model_factory.h"
 
 namespace kincal::app {
 
 namespace {
+
+void Pad(const std::string& text, size_t width) {
+  std::cout << text;
+  for (size_t i = text.size(); i < width; ++i) std::cout << ' ';
+}
+
 template <typename R>
 void List(const char* title, const R& registry) {
   std::cout << title << ":\n";
   for (const auto& name : registry.RegisteredNames()) {
-    const auto& entry = registry.Get(name);
-    std::cout << "  " << name;
-    for (size_t i = name.size(); i < 22; ++i) std::cout << ' ';
-    std::cout << entry.description;
-    if (!entry.available) std::cout << " [unavailable: " << entry.why_unavailable << "]";
-    std::cout << "\n";
+    std::cout << "  ";
+    Pad(name, 20);
+    std::cout << registry.Get(name).description << "\n";
   }
 }
+
+template <typename R>
+bool PrintOptions(const char* kind, const R& registry, const std::string& name) {
+  if (!registry.IsRegistered(name)) return false;
+  const auto& entry = registry.Get(name);
+  std::cout << kind << " " << name << ": " << entry.description << "\n";
+  if (entry.options.empty()) std::cout << "  (no options)\n";
+  size_t key_width = 0, type_width = 0, default_width = 0;
+  for (const OptionDoc& o : entry.options) {
+    key_width = std::max(key_width, o.key.size());
+    type_width = std::max(type_width, o.type.size());
+    default_width = std::max(default_width, o.default_value.size());
+  }
+  for (const OptionDoc& o : entry.options) {
+    std::cout << "  ";
+    Pad(o.key, key_width + 2);
+    Pad(o.type, type_width + 2);
+    Pad(o.default_value, default_width + 2);
+    std::cout << o.doc << "\n";
+  }
+  return true;
+}
+
 }  // namespace
 
 void AddMethodsCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("methods", "list every model, estimator and compensator");
-  cmd->callback([]() {
+  auto options = std::make_shared<std::string>();
+  cmd->add_option("--options", *options,
+                  "print the options of this estimator or compensator: key, type, default, what it does");
+  cmd->callback([options]() {
+    if (!options->empty()) {
+      const bool estimator = PrintOptions("estimator", Estimators(), *options);
+      if (estimator && Compensators().IsRegistered(*options)) std::cout << "\n";
+      const bool compensator = PrintOptions("compensator", Compensators(), *options);
+      if (!estimator && !compensator) {
+        std::string list;
+        for (const auto& n : Estimators().RegisteredNames()) list += (list.empty() ? "" : ", ") + n;
+        for (const auto& n : Compensators().RegisteredNames()) list += ", " + n;
+        ThrowInputError("--options: no estimator or compensator '" + *options + "' (registered: " + list + ")");
+      }
+      return;
+    }
     std::cout << "models (robot file `convention`):\n";
     for (const auto& c : ModelConventions()) std::cout << "  " << c << "\n";
-    List("estimators (kincal identify --method)", Estimators());
-    List("compensators (kincal compensate --method)", Compensators());
+    List("estimators (kincal identify --method; options: kincal methods --options NAME)", Estimators());
+    List("compensators (kincal compensate --method; options: kincal methods --options NAME)", Compensators());
   });
 }
 

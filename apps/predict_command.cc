@@ -31,8 +31,9 @@ void AddPredictCommand(CLI::App& app) {
   cmd->add_option("--nominal", a->nominal,
                   "the controller's robot, whose ratios turned the commanded angles into motor counts "
                   "(default: the robot itself; matters only for datasets without encoder counts)");
-  cmd->add_option("--report", a->report,
-                  "identify's JSON report for ROBOT.yaml: adds sd_mm and outside_support from its parameter covariance");
+  cmd->add_option(
+      "--report", a->report,
+      "identify's JSON report for ROBOT.yaml: adds sd_mm and outside_support from its parameter covariance");
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
     const Robot controller = a->nominal.empty() ? robot : ReadRobotFile(a->nominal);
@@ -52,8 +53,9 @@ void AddPredictCommand(CLI::App& app) {
     const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
     for (size_t i = 0; i < predicted.size(); ++i) {  // never a NaN written silently
       if (!predicted[i].allFinite() || !(predicted[i] - data.rows[i].p).allFinite()) {
-        ThrowInputError(a->robot, 0, 0, "the prediction for " + a->data + " line " + std::to_string(data.rows[i].line) +
-                                            " is not finite: values out of range in the robot file or the dataset");
+        ThrowInputError(a->robot, 0, 0,
+                        "the prediction for " + a->data + " line " + std::to_string(data.rows[i].line) +
+                            " is not finite: values out of range in the robot file or the dataset");
       }
     }
     std::vector<double> sd;
@@ -73,7 +75,8 @@ void AddPredictCommand(CLI::App& app) {
           }
         }
       }
-      if (!found) ThrowInputError(a->report, 0, 0, "no stage with a prediction_covariance (an error-model estimator's)");
+      if (!found)
+        ThrowInputError(a->report, 0, 0, "no stage with a prediction_covariance (an error-model estimator's)");
       cov = NamingFile(a->report, [&] { return PredictionCovariance::FromJson(*found); });
       sd = PredictionSd(robot, controller, data, cov);
     }

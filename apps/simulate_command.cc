@@ -26,10 +26,13 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--poses", a->poses, "random protocol: number of configurations (default 100)");
   cmd->add_option("--stops", a->stops, "sweep protocol: stops per joint (default 20)");
   cmd->add_option("--step", a->step_deg, "sweep protocol: degrees between stops (default 2)");
-  cmd->add_option("--start", a->start, "sweep protocol: calibration configuration, robot file's angle unit (default 0)");
+  cmd->add_option("--start", a->start,
+                  "sweep protocol: calibration configuration, robot file's angle unit (default 0)");
   cmd->add_option("--order", a->order, "sweep protocol: joints to sweep, e.g. 6,5,4,3,2,1 (default n..1)");
-  cmd->add_option("--noise", a->noise, "position noise per axis: a number in the robot file's length unit, or with a unit (10um)");
-  cmd->add_option("--noise-range", a->noise_range, "extra noise per metre of distance to the instrument, e.g. 5um (laser tracker)");
+  cmd->add_option("--noise", a->noise,
+                  "position noise per axis: a number in the robot file's length unit, or with a unit (10um)");
+  cmd->add_option("--noise-range", a->noise_range,
+                  "extra noise per metre of distance to the instrument, e.g. 5um (laser tracker)");
   cmd->add_flag("--orientation", a->orientation, "also record the tool orientation (qw, qx, qy, qz)");
   cmd->add_option("--orientation-noise", a->orientation_noise_deg, "orientation noise per axis, deg");
   cmd->add_option("--seed", a->seed, "random seed (same seed, same file)");

@@ -1,6 +1,6 @@
 // kincal study STUDY.yaml --out DIR [--threads N] [--shard i/N]
 // Runs a study (studies/study.h describes the file) and writes results, plots and report.md.
-// Resumable (issue 13): finished work items are journaled in DIR; the same command again continues.
+// Resumable: finished work items are journaled in DIR; the same command again continues.
 // SIGTERM and SIGINT (Slurm preemption, a time limit, Ctrl-C) stop taking new items; the items in flight
 // finish and are journaled; the command exits with 128 + the signal's number. A second Ctrl-C ends it at once
 // (the journal loses at most the items in flight).
@@ -48,7 +48,8 @@ void AddStudyCommand(CLI::App& app) {
   cmd->add_option("study", a->study, "study file (YAML)")->required();
   cmd->add_option("--out", a->out,
                   "output folder (created): report.md, results.csv, plots/, ...; its study.journal lets the same "
-                  "command continue a stopped run")->required();
+                  "command continue a stopped run")
+      ->required();
   cmd->add_option("--threads", a->threads, "worker threads (default: the study's, else every core)");
   cmd->add_option("--shard", a->shard, "run slice i of N of the work items (combine with kincal merge)");
   cmd->callback([a]() {

@@ -68,9 +68,15 @@ void BM_CeresSessions(benchmark::State& state, const std::string& linear_solver)
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_CeresSessions, sparse_normal_cholesky, std::string("sparse_normal_cholesky"))
-    ->Arg(5)->Arg(20)->Arg(40)->Unit(benchmark::kMillisecond);
+    ->Arg(5)
+    ->Arg(20)
+    ->Arg(40)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CeresSessions, dense_qr, std::string("dense_qr"))
-    ->Arg(5)->Arg(20)->Arg(40)->Unit(benchmark::kMillisecond);
+    ->Arg(5)
+    ->Arg(20)
+    ->Arg(40)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace kincal
 

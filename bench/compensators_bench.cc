@@ -175,7 +175,7 @@ void BM_KdlLma(benchmark::State& state, bool matched, bool tracked) {
 }
 
 // joint_space on the tracked arm (2000 random reachable targets, singular neighbourhoods included):
-// the fraction within 0.05 mm and 1e-4 rad (issue 12: >= 95 %), time per Compensate() (<= 2 us),
+// the fraction within 0.05 mm and 1e-4 rad (>= 95 %), time per Compensate() (<= 2 us),
 // memory (<= 50 MB) and the build (<= 10 s on one core, BM_JointSpacePrepare). KDL on the same targets:
 // BM_KdlLma/tracked_*.
 void BM_JointSpaceTracked(benchmark::State& state, const std::string& options_yaml) {
@@ -243,9 +243,9 @@ void BM_CompensateCommand(benchmark::State& state, const std::string& method) {
     }
   }
   const std::string robots = std::string(KINCAL_SOURCE_DIR) + "/examples/robots/";
-  const std::string command = std::string(KINCAL_CLI) + " compensate --nominal " + robots + "seed_nominal.yaml --identified " +
-                              robots + "seed_identified.yaml --targets " + targets + " --method " + method +
-                              " --out " + out + " > /dev/null";
+  const std::string command = std::string(KINCAL_CLI) + " compensate --nominal " + robots +
+                              "seed_nominal.yaml --identified " + robots + "seed_identified.yaml --targets " + targets +
+                              " --method " + method + " --out " + out + " > /dev/null";
   for (auto _ : state) {
     if (std::system(command.c_str()) != 0) state.SkipWithError("kincal compensate failed");
   }
@@ -260,14 +260,15 @@ void PrintSeedClaimStatistics() {
     const char* name;
     bool plain;
   };
-  std::printf("\nThe seed's claim, %zu random reachable targets of the seed arm (nominal seeds):\n", s.all.targets.size());
+  std::printf("\nThe seed's claim, %zu random reachable targets of the seed arm (nominal seeds):\n",
+              s.all.targets.size());
   std::printf("%-34s %12s %12s %12s %12s %10s\n", "analytic_derivative", "<=4 it 1e-12", "<=4 it 1e-9", "ever 1e-12",
               "floor p50 m", "median it");
   for (const Variant& v : {Variant{"default (0.5 m, damped)", false}, Variant{"plain (paper: SI, A^+ B)", true}}) {
     AnalyticDerivativeCompensator::Options o;
     o.plain = v.plain;
-    o.iteration.position_tolerance = 1e-15;                     // 1e-12 mm
-    o.iteration.orientation_tolerance = 1e-12 * M_PI / 180.0;   // 1e-12 deg
+    o.iteration.position_tolerance = 1e-15;                    // 1e-12 mm
+    o.iteration.orientation_tolerance = 1e-12 * M_PI / 180.0;  // 1e-12 deg
     o.iteration.max_iterations = 12;
     AnalyticDerivativeCompensator c(o);
     c.Prepare(s.nominal, s.identified);
@@ -296,8 +297,9 @@ void PrintSeedClaimStatistics() {
     std::printf("%-34s %11.1f%% %11.1f%% %11.1f%% %12.2e %10.0f\n", v.name, 100 * claim4 / n, 100 * tight4 / n,
                 100 * ever / n, floors[floors.size() / 2], first_tight[first_tight.size() / 2]);
   }
-  std::printf("  <=4 it 1e-12: 1e-12 mm and 1e-12 deg within 4 iterations; <=4 it 1e-9: 1e-9 mm and 1e-12 rad;\n"
-              "  ever 1e-12: the claim's accuracy at any iteration (12 at most); floor: smallest position error.\n\n");
+  std::printf(
+      "  <=4 it 1e-12: 1e-12 mm and 1e-12 deg within 4 iterations; <=4 it 1e-9: 1e-9 mm and 1e-12 rad;\n"
+      "  ever 1e-12: the claim's accuracy at any iteration (12 at most); floor: smallest position error.\n\n");
 }
 
 // Collects the time per benchmark to print the ratios against KDL at the end: CPU time (robust when other
@@ -348,10 +350,10 @@ BENCHMARK_CAPTURE(BM_JointSpaceTracked, two_steps, "{steps: 2}");
 BENCHMARK_CAPTURE(BM_JointSpaceTracked, four_steps, "{steps: 4}");
 BENCHMARK(BM_JointSpacePrepare)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CompensateCommand, analytic_derivative_20000, "analytic_derivative")
-    ->Unit(benchmark::kMillisecond)->Iterations(3);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 BENCHMARK_CAPTURE(BM_CompensateCommand, jacobian_20000, "jacobian")->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK_CAPTURE(BM_CompensateCommand, joint_space_20000, "joint_space")
-    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_CompensateCommand, joint_space_20000, "joint_space")->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 }  // namespace kincal

@@ -45,8 +45,8 @@ const Setup& S() {
 
 void BM_FilterRapid(benchmark::State& state) {
   const std::unique_ptr<ProgramFormat> format = MakeProgramFormat("rapid");
-  const ProgramFilter filter(S().nominal, S().identified, Compensators().Create("analytic_derivative", YAML::Load("{}")),
-                             {}, format->convention());
+  const ProgramFilter filter(S().nominal, S().identified,
+                             Compensators().Create("analytic_derivative", YAML::Load("{}")), {}, format->convention());
   int filtered = 0;
   for (auto _ : state) {
     const FilteredProgram out = filter.Filter(*format, S().program, "bench.mod");

@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   int seeds = 20;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
+    if (arg == "--seeds" && i + 1 < argc)
+      seeds = std::atoi(argv[++i]);
     else {
       std::fprintf(stderr, "usage: %s [--seeds N]\n", argv[0]);
       return 2;
@@ -66,9 +67,10 @@ int main(int argc, char** argv) {
   const Dataset test = Simulate(nominal, truth, held_out);
   std::printf("held-out: 300 random poses within the nominal limits, noise-free; nominal robot's mean error %.4f mm\n",
               EvaluatePredictions(nominal, nominal, test).position_stats.mean * 1e3);
-  std::printf("identification: geometric,ratio_regression; mean over %d seeds of each run's mean held-out error, mm, "
-              "+- its standard error; in brackets the mean paired difference to the geometric fit on the same data\n\n",
-              seeds);
+  std::printf(
+      "identification: geometric,ratio_regression; mean over %d seeds of each run's mean held-out error, mm, "
+      "+- its standard error; in brackets the mean paired difference to the geometric fit on the same data\n\n",
+      seeds);
 
   const std::vector<Protocol> protocols = {{"20 x 2 deg", 20, 2.0}, {"20 x 6 deg", 20, 6.0}, {"36 x 10 deg", 36, 10.0}};
   const std::vector<double> noises = {0.01e-3, 0.1e-3};
@@ -76,7 +78,8 @@ int main(int argc, char** argv) {
   std::printf("%-12s %-8s", "protocol", "noise");
   for (const auto& f : fits) std::printf(" %-36s", f.c_str());
   std::printf("\n%-21s", "");
-  for (size_t f = 0; f < fits.size(); ++f) std::printf(" %-36s", f + 1 < fits.size() ? "mean +- s.e. [paired vs geom.]" : "mean +- s.e.");
+  for (size_t f = 0; f < fits.size(); ++f)
+    std::printf(" %-36s", f + 1 < fits.size() ? "mean +- s.e. [paired vs geom.]" : "mean +- s.e.");
   std::printf("\n");
   for (const Protocol& protocol : protocols) {
     for (double noise : noises) {
@@ -116,7 +119,8 @@ int main(int argc, char** argv) {
         char text[96];
         int used = std::snprintf(text, sizeof(text), "%.4f +- %.4f", Mean(valid) * 1e3, StdErr(valid) * 1e3);
         if (f + 1 < fits.size()) {
-          used += std::snprintf(text + used, sizeof(text) - used, " [%+.4f +- %.4f]", Mean(paired) * 1e3, StdErr(paired) * 1e3);
+          used += std::snprintf(text + used, sizeof(text) - used, " [%+.4f +- %.4f]", Mean(paired) * 1e3,
+                                StdErr(paired) * 1e3);
         }
         if (failures[f]) std::snprintf(text + used, sizeof(text) - used, " (%d refused)", failures[f]);
         std::printf(" %-36s", text);

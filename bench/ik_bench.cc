@@ -89,7 +89,8 @@ bool InsideLimits(const Robot& robot, const Eigen::VectorXd& q) {
   for (int j = 0; j < q.size(); ++j) {
     const auto [low, high] = robot.Limit(j);
     bool inside = false;
-    for (int k = -2; k <= 2; ++k) inside = inside || (q[j] + 2 * M_PI * k >= low - 1e-12 && q[j] + 2 * M_PI * k <= high + 1e-12);
+    for (int k = -2; k <= 2; ++k)
+      inside = inside || (q[j] + 2 * M_PI * k >= low - 1e-12 && q[j] + 2 * M_PI * k <= high + 1e-12);
     if (!inside) return false;
   }
   return true;
@@ -190,15 +191,20 @@ void Register() {
   for (const char* arm : kArms) {
     const std::string name(arm, std::string(arm).find('.'));
     benchmark::RegisterBenchmark(("Ik_Kincal/" + name).c_str(), BM_Ik_Kincal, arm, false)
-        ->Iterations(5)->Unit(benchmark::kMillisecond);
+        ->Iterations(5)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("IkGrid_Kincal/" + name).c_str(), BM_Ik_Kincal, arm, true)
-        ->Iterations(3)->Unit(benchmark::kMillisecond);
+        ->Iterations(3)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLma/" + name).c_str(), BM_Ik_KdlLma, arm, 1, false)
-        ->Iterations(1)->Unit(benchmark::kMillisecond);
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLmaRestarts/" + name).c_str(), BM_Ik_KdlLma, arm, kMaxStarts, false)
-        ->Iterations(1)->Unit(benchmark::kMillisecond);
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Ik_KdlLmaExact/" + name).c_str(), BM_Ik_KdlLma, arm, kMaxStarts, true)
-        ->Iterations(1)->Unit(benchmark::kMillisecond);
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
   }
 }
 

@@ -1,5 +1,5 @@
 // The whole `kincal compensate --method analytic_derivative` on 2000 targets without seeds against the same
-// targets with seeds (issue 12: at most 3x), for the seed's arm, IRB 120, UR10 and Puma 560.
+// targets with seeds (at most 3x), for the seed's arm, IRB 120, UR10 and Puma 560.
 //
 // Two kinds of targets, each the pose of a random configuration within the joint limits (seed 2000):
 //  - reachable: the identified (real) arm's pose, which the arm reaches by construction;
@@ -110,15 +110,14 @@ std::string PrepareFiles(const std::string& file, bool reachable, const std::fil
 
 void BM_CompensateCommand(benchmark::State& state, const std::string& file, bool reachable, bool seeds, bool far) {
   const std::string stem = file.substr(0, file.find('.')) + (far ? "_far_base" : "");
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("kincal_seedless_bench_" + stem + (reachable ? "_reachable" : "_nominal"));
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("kincal_seedless_bench_" + stem + (reachable ? "_reachable" : "_nominal"));
   std::filesystem::create_directories(dir);
   std::string nominal;
   const std::string identified = PrepareFiles(file, reachable, dir, far, &nominal);
   const std::string out = (dir / (seeds ? "seeded_joints.csv" : "seedless_joints.csv")).string();
-  const std::string command = std::string(KINCAL_CLI) + " compensate --nominal " + nominal +
-                              " --identified " + identified + " --targets " +
-                              (dir / (seeds ? "seeded.csv" : "seedless.csv")).string() +
+  const std::string command = std::string(KINCAL_CLI) + " compensate --nominal " + nominal + " --identified " +
+                              identified + " --targets " + (dir / (seeds ? "seeded.csv" : "seedless.csv")).string() +
                               " --method analytic_derivative --out " + out + " > " + out + ".log";
   double cpu = 0.0;
   for (auto _ : state) {
@@ -137,7 +136,8 @@ void BM_CompensateCommand(benchmark::State& state, const std::string& file, bool
     const size_t s = cells.size();
     // ..., status, iterations, position_error_mm, orientation_error_deg, seed_computed
     ++rows;
-    reached += cells[s - 5] == "converged" && std::stod(cells[s - 3]) <= 1e-6 && std::stod(cells[s - 2]) * M_PI / 180 <= 1e-8;
+    reached +=
+        cells[s - 5] == "converged" && std::stod(cells[s - 3]) <= 1e-6 && std::stod(cells[s - 2]) * M_PI / 180 <= 1e-8;
   }
   std::ifstream log(out + ".log");
   std::stringstream text;
@@ -162,15 +162,19 @@ void Register() {
         const std::string name = std::string("CompensateCommand/") + (reachable ? "reachable/" : "nominal/") +
                                  (seeds ? "seeds/" : "seedless/") + stem;
         benchmark::RegisterBenchmark(name.c_str(), BM_CompensateCommand, arm, reachable, seeds, false)
-            ->Iterations(3)->UseRealTime()->Unit(benchmark::kMillisecond);
+            ->Iterations(3)
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
       }
     }
   }
   for (bool seeds : {true, false}) {
-    const std::string name = std::string("CompensateCommand/reachable/") + (seeds ? "seeds/" : "seedless/") +
-                             "seed_nominal_far_base";
+    const std::string name =
+        std::string("CompensateCommand/reachable/") + (seeds ? "seeds/" : "seedless/") + "seed_nominal_far_base";
     benchmark::RegisterBenchmark(name.c_str(), BM_CompensateCommand, "seed_nominal.yaml", true, seeds, true)
-        ->Iterations(3)->UseRealTime()->Unit(benchmark::kMillisecond);
+        ->Iterations(3)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   }
 }
 

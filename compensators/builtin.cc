@@ -14,23 +14,28 @@ namespace {
 template <typename T>
 CompensatorRegistry::Factory FactoryOf() {
   return [](const YAML::Node& node) -> std::unique_ptr<Compensator> {
-    const typename T::Options options = T::Options::FromYaml(node);
-    std::string why;
-    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + OneLine(why));
-    return std::make_unique<T>(options);
+    // FromYaml checks every requirement of the options' table, naming the value's line and column.
+    return std::make_unique<T>(T::Options::FromYaml(node));
   };
+}
+
+template <typename T>
+std::vector<OptionDoc> OptionDocs() {
+  return T::Options::Table().Docs();
 }
 
 CompensatorRegistry MakeRegistry() {
   CompensatorRegistry r;
-  r.Register({"none", "the controller's nominal joints, unchanged (baseline)", FactoryOf<NoneCompensator>(), true, ""});
+  r.Register({"none", "the controller's nominal joints, unchanged (baseline)", FactoryOf<NoneCompensator>(),
+              OptionDocs<NoneCompensator>()});
   r.Register({"analytic_derivative",
               "the seed's 12-equation pose-matrix differential (METHOD.md 4), weighted, damped near singularities",
-              FactoryOf<AnalyticDerivativeCompensator>(), true, ""});
+              FactoryOf<AnalyticDerivativeCompensator>(), OptionDocs<AnalyticDerivativeCompensator>()});
   r.Register({"jacobian", "6-D pose error, geometric Jacobian, damped least squares near singularities",
-              FactoryOf<JacobianCompensator>(), true, ""});
-  r.Register({"joint_space", "identified pose as exact per-joint Fourier factors built offline; 3 fixed Jacobian steps at run time",
-              FactoryOf<JointSpaceCompensator>(), true, ""});
+              FactoryOf<JacobianCompensator>(), OptionDocs<JacobianCompensator>()});
+  r.Register({"joint_space",
+              "identified pose as exact per-joint Fourier factors built offline; 3 fixed Jacobian steps at run time",
+              FactoryOf<JointSpaceCompensator>(), OptionDocs<JointSpaceCompensator>()});
   return r;
 }
 

@@ -6,8 +6,9 @@ namespace kincal {
 
 std::vector<CompensationTarget> CompensationTargetsFrom(const Dataset& data, int dof) {
   if (data.dof != 0 && data.dof != dof) {
-    ThrowInputError(data.source, 0, 0, "the targets have " + std::to_string(data.dof) +
-                                           " joint (seed) columns but the robot has " + std::to_string(dof) + " joints");
+    ThrowInputError(data.source, 0, 0,
+                    "the targets have " + std::to_string(data.dof) + " joint (seed) columns but the robot has " +
+                        std::to_string(dof) + " joints");
   }
   if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit()) {
     ThrowInputError(data.source, 0, 0,

@@ -13,12 +13,18 @@ namespace kincal {
 
 std::string ToString(CompensationStatus status) {
   switch (status) {
-    case CompensationStatus::kConverged: return "converged";
-    case CompensationStatus::kIterationLimit: return "iteration_limit";
-    case CompensationStatus::kSingular: return "singular";
-    case CompensationStatus::kUnreachable: return "unreachable";
-    case CompensationStatus::kOutOfLimits: return "out_of_limits";
-    case CompensationStatus::kFailed: return "failed";
+    case CompensationStatus::kConverged:
+      return "converged";
+    case CompensationStatus::kIterationLimit:
+      return "iteration_limit";
+    case CompensationStatus::kSingular:
+      return "singular";
+    case CompensationStatus::kUnreachable:
+      return "unreachable";
+    case CompensationStatus::kOutOfLimits:
+      return "out_of_limits";
+    case CompensationStatus::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -56,24 +62,19 @@ Eigen::Isometry3d TargetFromBaseFrame(const Robot& controller, const Eigen::Isom
   return controller.model().base() * T_base_tool;
 }
 
-bool BranchRestartOptions::IsValid(std::string* why) const {
-  if (!(same_branch_distance > 0) || !std::isfinite(same_branch_distance)) {
-    if (why) *why = "same_branch_distance must be a positive angle (rad)";
-    return false;
-  }
-  if (random_starts < 0 || random_starts > 100000) {
-    if (why) *why = "random_starts must be in 0..100000";
-    return false;
-  }
-  return true;
+const OptionTable<BranchRestartOptions>& BranchRestartOptions::Table() {
+  using O = BranchRestartOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("branch restarts")
+          .Add("branch_restarts", &O::enabled, "retry a missed target from the nominal arm's branches")
+          .Add("same_branch_distance", &O::same_branch_distance,
+               "rad: a solution this near the seed in every joint is the controller's branch", Positive())
+          .Add("other_branches", &O::other_branches, "accept a solution on another branch within the limits")
+          .Add("random_starts", &O::random_starts, "random starts after the branches", Within(0, 100000));
+  return table;
 }
 
-void BranchRestartOptions::Read(OptionsReader* reader) {
-  reader->Get("branch_restarts", &enabled);
-  reader->Get("same_branch_distance", &same_branch_distance);
-  reader->Get("other_branches", &other_branches);
-  reader->Get("random_starts", &random_starts);
-}
+bool BranchRestartOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 
@@ -154,8 +155,9 @@ void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorX
     });
     const std::string from = best->report.message;
     finish(std::move(*best),
-           "converged from " + from + " on another branch than the controller's: the identified arm does not "
-           "reach the target next to the nominal solution (a singular surface or a workspace fold lies between)",
+           "converged from " + from +
+               " on another branch than the controller's: the identified arm does not "
+               "reach the target next to the nominal solution (a singular surface or a workspace fold lies between)",
            true);
     return;
   }
@@ -168,13 +170,15 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   const auto t0 = std::chrono::steady_clock::now();
   const int n = identified_.dof();
   if (!target.T_meas_tool.matrix().allFinite()) throw std::invalid_argument("compensate: non-finite target");
-  if (target.previous_command.size() != 0 && (target.previous_command.size() != n || !target.previous_command.allFinite())) {
-    throw std::invalid_argument("compensate: the previous command has " + std::to_string(target.previous_command.size()) +
-                                " joints, expected " + std::to_string(n));
+  if (target.previous_command.size() != 0 &&
+      (target.previous_command.size() != n || !target.previous_command.allFinite())) {
+    throw std::invalid_argument("compensate: the previous command has " +
+                                std::to_string(target.previous_command.size()) + " joints, expected " +
+                                std::to_string(n));
   }
   if (target.seed.size() != 0 && target.seed.size() != n) {
-    throw std::invalid_argument("compensate: the seed has " + std::to_string(target.seed.size()) + " joints, expected " +
-                                std::to_string(n));
+    throw std::invalid_argument("compensate: the seed has " + std::to_string(target.seed.size()) +
+                                " joints, expected " + std::to_string(n));
   }
   CompensationResult result;
   // A seed from a targets file is the controller's joint readings; its joints are the coupled ones.
@@ -189,8 +193,9 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
     // the arm comes from (the previous target), else from the middle of the limits.
     Eigen::VectorXd reference = target.previous_command;
     if (reference.size() != 0 && nominal_.coupling.size() != 0) reference = nominal_.coupling * reference;
-    const IkSolution ik = target.has_orientation ? nominal_ik_->Solve(target.T_meas_tool, reference)
-                                                 : nominal_ik_->SolvePosition(target.T_meas_tool.translation(), reference);
+    const IkSolution ik = target.has_orientation
+                              ? nominal_ik_->Solve(target.T_meas_tool, reference)
+                              : nominal_ik_->SolvePosition(target.T_meas_tool.translation(), reference);
     computed_seed = ik.q;
     seed_in = &computed_seed;
     result.report.seed_computed = true;
@@ -232,12 +237,13 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   // The commands that put the identified arm's joints at q_actual: coupling, ratios and joint errors
   // inverted, the latter coming from the previous target's commands (robot/joint_readings.h).
   double joint_residual = 0.0;
-  result.q_command = ReadingsFromActual(nominal_, identified_, result.q_actual,
-                                        target.previous_command.size() ? &target.previous_command : nullptr,
-                                        &joint_residual);
+  result.q_command =
+      ReadingsFromActual(nominal_, identified_, result.q_actual,
+                         target.previous_command.size() ? &target.previous_command : nullptr, &joint_residual);
   if (!result.q_command.allFinite() || joint_residual > 1e-9) {
     result.report.status = CompensationStatus::kFailed;
-    result.report.message = "the joint errors could not be inverted (residual " + std::to_string(joint_residual) + " rad)";
+    result.report.message =
+        "the joint errors could not be inverted (residual " + std::to_string(joint_residual) + " rad)";
     if (!result.q_command.allFinite()) result.q_command = result.q_actual;
   }
   if (identified_.drives) result.encoders = nominal_.drives->CommandCounts(result.q_command);

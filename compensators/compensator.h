@@ -70,18 +70,17 @@ struct BranchRestartOptions {
   // half around the seed with a spread growing to pi, the rest uniform within the joint limits (TRAC-IK's
   // random restarts). A fixed stream: the same target gives the same joints. 0: none.
   int random_starts = 64;
+  // Keys `branch_restarts` (enabled), `same_branch_distance`, `other_branches`, `random_starts`.
+  static const OptionTable<BranchRestartOptions>& Table();
   bool IsValid(std::string* why) const;
-  // Reads the keys `branch_restarts` (enabled), `same_branch_distance`, `other_branches` and
-  // `random_starts` (the caller calls reader->Finish()).
-  void Read(OptionsReader* reader);
 };
 
 struct CompensationReport {
   CompensationStatus status = CompensationStatus::kFailed;
   std::string message;
-  int iterations = 0;               // of the run that gave q_actual (the histories' length - 1)
-  int restarts = 0;                 // further starts tried after the seed (BranchRestartOptions)
-  int total_iterations = 0;         // over the seed's run and every restart
+  int iterations = 0;              // of the run that gave q_actual (the histories' length - 1)
+  int restarts = 0;                // further starts tried after the seed (BranchRestartOptions)
+  int total_iterations = 0;        // over the seed's run and every restart
   double position_error = NAN;     // m, identified FK of q_actual against the target
   double orientation_error = NAN;  // rad (0 for position-only targets)
   bool seed_computed = false;      // the target had no seed: nominal inverse kinematics was solved
@@ -95,8 +94,8 @@ struct CompensationReport {
 };
 
 struct CompensationResult {
-  Eigen::VectorXd q_actual;   // joint angles the identified robot needs
-  Eigen::VectorXd q_command;  // what to command to a controller converting with the nominal ratios
+  Eigen::VectorXd q_actual;       // joint angles the identified robot needs
+  Eigen::VectorXd q_command;      // what to command to a controller converting with the nominal ratios
   std::vector<int64_t> encoders;  // motor counts to command (when the robot has drives)
   CompensationReport report;
 };

@@ -17,36 +17,41 @@ namespace {
 template <typename T>
 EstimatorRegistry::Factory FactoryOf() {
   return [](const YAML::Node& node) -> std::unique_ptr<Estimator> {
-    const typename T::Options options = T::Options::FromYaml(node);
-    std::string why;
-    if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + OneLine(why));
-    return std::make_unique<T>(options);
+    // FromYaml checks every requirement of the options' table, naming the value's line and column.
+    return std::make_unique<T>(T::Options::FromYaml(node));
   };
+}
+
+template <typename T>
+std::vector<OptionDoc> OptionDocs() {
+  return T::Options::Table().Docs();
 }
 
 EstimatorRegistry MakeRegistry() {
   EstimatorRegistry r;
-  r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(), true, ""});
-  r.Register({"geometric", "circle point analysis: joint axes from swept arcs, MDH frames by common normals (seed, METHOD.md 2)",
-              FactoryOf<GeometricEstimator>(), true, ""});
+  r.Register({"none", "no calibration: the nominal robot unchanged (baseline)", FactoryOf<NoneEstimator>(),
+              OptionDocs<NoneEstimator>()});
+  r.Register({"geometric",
+              "circle point analysis: joint axes from swept arcs, MDH frames by common normals (seed, METHOD.md 2)",
+              FactoryOf<GeometricEstimator>(), OptionDocs<GeometricEstimator>()});
   r.Register({"ratio_regression", "reduction ratios from swept arcs and encoder counts (seed, METHOD.md 3)",
-              FactoryOf<RatioRegressionEstimator>(), true, ""});
+              FactoryOf<RatioRegressionEstimator>(), OptionDocs<RatioRegressionEstimator>()});
   r.Register({"least_squares",
               "error model by our own Levenberg-Marquardt: every identifiable parameter, ratios, markers, session "
               "bases; analytic Jacobians, robust loss, O(p^2) memory",
-              FactoryOf<LeastSquaresEstimator>(), true, ""});
+              FactoryOf<LeastSquaresEstimator>(), OptionDocs<LeastSquaresEstimator>()});
   r.Register({"ceres",
               "error model by Ceres Solver (Levenberg-Marquardt, analytic Jacobians): dense QR, sparse normal Cholesky "
               "(SuiteSparse) when sessions make it sparse; robust loss, weights",
-              FactoryOf<CeresEstimator>(), true, ""});
+              FactoryOf<CeresEstimator>(), OptionDocs<CeresEstimator>()});
   r.Register({"nlopt",
               "error model by NLopt within bounds on every parameter: SLSQP with exact gradients by default, any "
               "bounded local algorithm by name (LN_BOBYQA derivative-free)",
-              FactoryOf<NloptEstimator>(), true, ""});
+              FactoryOf<NloptEstimator>(), OptionDocs<NloptEstimator>()});
   r.Register({"ipopt",
               "error model by Ipopt (interior point) within bounds on every parameter: exact gradients, Gauss-Newton "
               "or limited-memory Hessian",
-              FactoryOf<IpoptEstimator>(), true, ""});
+              FactoryOf<IpoptEstimator>(), OptionDocs<IpoptEstimator>()});
   return r;
 }
 

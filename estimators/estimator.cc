@@ -11,9 +11,12 @@ namespace kincal {
 
 std::string ToString(EstimationStatus status) {
   switch (status) {
-    case EstimationStatus::kConverged: return "converged";
-    case EstimationStatus::kIterationLimit: return "iteration_limit";
-    case EstimationStatus::kFailed: return "failed";
+    case EstimationStatus::kConverged:
+      return "converged";
+    case EstimationStatus::kIterationLimit:
+      return "iteration_limit";
+    case EstimationStatus::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -44,10 +47,17 @@ nlohmann::json EstimationReport::ToJson() const {
   j["condition_number"] = Number(condition_number);
   nlohmann::json params = nlohmann::json::array();
   for (const auto& p : parameters) {
-    params.push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", Number(p.nominal)}, {"value", Number(p.value)},
-                      {"stddev", Number(p.stddev)}, {"free", p.free}, {"note", p.note},
-                      {"prior_sd", Number(p.prior_sd)}, {"data_sd", Number(p.data_sd)},
-                      {"data_share", Number(p.data_share)}, {"weak", p.weak}});
+    params.push_back({{"name", p.name},
+                      {"unit", p.unit},
+                      {"nominal", Number(p.nominal)},
+                      {"value", Number(p.value)},
+                      {"stddev", Number(p.stddev)},
+                      {"free", p.free},
+                      {"note", p.note},
+                      {"prior_sd", Number(p.prior_sd)},
+                      {"data_sd", Number(p.data_sd)},
+                      {"data_share", Number(p.data_share)},
+                      {"weak", p.weak}});
   }
   j["parameters"] = params;
   j["fixed_parameters"] = fixed_parameters;
@@ -59,7 +69,8 @@ nlohmann::json EstimationReport::ToJson() const {
 EstimationReport Estimator::Estimate(const Robot& start, const Robot& controller, const Dataset& data,
                                      Robot* identified) const {
   if (!start.has_model()) throw std::invalid_argument("estimate: the robot has no model");
-  if (controller.dof() != start.dof()) throw std::invalid_argument("estimate: controller and model differ in joint count");
+  if (controller.dof() != start.dof())
+    throw std::invalid_argument("estimate: controller and model differ in joint count");
   data.Validate(start.dof());
   if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
   const auto t0 = std::chrono::steady_clock::now();
@@ -77,12 +88,15 @@ EstimationReport Estimator::Estimate(const Robot& start, const Robot& controller
   if (!identified->model().Parameters().allFinite()) {
     *identified = start;
     report.status = EstimationStatus::kFailed;
-    report.message = "non-finite (NaN or infinite) parameters: the data cannot determine the robot "
-                     "(degenerate poses or values out of range); the start robot is returned unchanged";
+    report.message =
+        "non-finite (NaN or infinite) parameters: the data cannot determine the robot "
+        "(degenerate poses or values out of range); the start robot is returned unchanged";
   }
   report.wall_time_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (std::isnan(report.initial_rms)) report.initial_rms = EvaluatePredictions(controller, start, data).position_stats.rms;
-  if (std::isnan(report.final_rms)) report.final_rms = EvaluatePredictions(controller, *identified, data).position_stats.rms;
+  if (std::isnan(report.initial_rms))
+    report.initial_rms = EvaluatePredictions(controller, start, data).position_stats.rms;
+  if (std::isnan(report.final_rms))
+    report.final_rms = EvaluatePredictions(controller, *identified, data).position_stats.rms;
   if (!std::isfinite(report.final_rms) && report.status != EstimationStatus::kFailed) {
     report.status = EstimationStatus::kFailed;
     report.message = "the residual is not finite: values out of range in the robot or the dataset";

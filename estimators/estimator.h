@@ -18,36 +18,36 @@ enum class EstimationStatus { kConverged, kIterationLimit, kFailed };
 std::string ToString(EstimationStatus status);
 
 struct ParameterEstimate {
-  std::string name;        // "a_2", "base_yaw", "ratio_3", "marker_SMR1_x", ...
-  std::string unit;        // "m", "rad" or "" (dimensionless)
-  double nominal = 0.0;    // value in the input robot
-  double value = 0.0;      // identified value
-  double stddev = NAN;     // standard deviation, NaN when the estimator cannot give one
-  bool free = true;        // estimated (false: held at its input value)
-  std::string note;        // e.g. "fixed: not identifiable from this data"
+  std::string name;      // "a_2", "base_yaw", "ratio_3", "marker_SMR1_x", ...
+  std::string unit;      // "m", "rad" or "" (dimensionless)
+  double nominal = 0.0;  // value in the input robot
+  double value = 0.0;    // identified value
+  double stddev = NAN;   // standard deviation, NaN when the estimator cannot give one
+  bool free = true;      // estimated (false: held at its input value)
+  std::string note;      // e.g. "fixed: not identifiable from this data"
   // Error-model estimators with priors (estimators/error_model/error_model_problem.h, PriorOptions):
-  double prior_sd = NAN;   // the prior's standard deviation, NaN without a prior
-  double data_sd = NAN;    // the standard deviation the data alone give (no prior), NaN when not computed
-  double data_share = NAN; // share of the information from the data: 1 - stddev^2 / prior_sd^2 (1 without prior)
-  bool weak = false;       // weakly identifiable: data_sd above the prior's (or its kind's default) sd
+  double prior_sd = NAN;    // the prior's standard deviation, NaN without a prior
+  double data_sd = NAN;     // the standard deviation the data alone give (no prior), NaN when not computed
+  double data_share = NAN;  // share of the information from the data: 1 - stddev^2 / prior_sd^2 (1 without prior)
+  bool weak = false;        // weakly identifiable: data_sd above the prior's (or its kind's default) sd
 };
 
 struct EstimationReport {
   std::string estimator;
   EstimationStatus status = EstimationStatus::kFailed;
-  std::string message;                  // why it stopped, in words
+  std::string message;  // why it stopped, in words
   int iterations = 0;
   double wall_time_seconds = 0.0;
   int num_measurements = 0;
-  double initial_rms = NAN;             // residual RMS before and after, m (position residuals)
+  double initial_rms = NAN;  // residual RMS before and after, m (position residuals)
   double final_rms = NAN;
-  double condition_number = NAN;        // of the scaled identification Jacobian, when computed
+  double condition_number = NAN;  // of the scaled identification Jacobian, when computed
   std::vector<ParameterEstimate> parameters;
   std::vector<std::string> fixed_parameters;  // held because the data cannot determine them
   std::vector<std::string> warnings;
   nlohmann::json details = nlohmann::json::object();  // estimator-specific (fitted axes, indices, ...)
 
-  std::string BriefReport() const;     // one line, Ceres-style
+  std::string BriefReport() const;  // one line, Ceres-style
   nlohmann::json ToJson() const;
 };
 
@@ -61,12 +61,15 @@ class Estimator {
   // motor counts (the nominal robot; it differs from `start` in the later stages of a pipeline).
   // Throws std::invalid_argument for bad input (joint count, non-finite values, too few rows); a failure
   // to converge is a report status, not an exception.
-  EstimationReport Estimate(const Robot& start, const Robot& controller, const Dataset& data,
-                            Robot* identified) const;
+  EstimationReport Estimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified) const;
   // The usual case: start from the nominal robot, which is also the controller.
   EstimationReport Estimate(const Robot& nominal, const Dataset& data, Robot* identified) const {
     return Estimate(nominal, nominal, data, identified);
   }
+  // Throws std::invalid_argument when the method cannot start from `start` whatever the data (a
+  // convention or joint type it cannot handle), so that the command line names the robot file, not the
+  // dataset. Default: every robot.
+  virtual void CheckStart(const Robot& start) const { (void)start; }
 
  private:
   virtual void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,

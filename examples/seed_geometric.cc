@@ -34,8 +34,9 @@ void PrintTables(const Robot& nominal, const Robot& truth, const Robot& identifi
   }
   const Eigen::Vector3d base = identified.model().base().translation() * kMm;
   const Eigen::Vector3d tool = identified.model().tool().translation() * kMm;
-  std::printf("  base xyz found (mm): %.3f %.3f %.3f (truth 0 0 0); tool xyz found (mm): %.3f %.3f %.3f (truth 40 30 100)\n",
-              base.x(), base.y(), base.z(), tool.x(), tool.y(), tool.z());
+  std::printf(
+      "  base xyz found (mm): %.3f %.3f %.3f (truth 0 0 0); tool xyz found (mm): %.3f %.3f %.3f (truth 40 30 100)\n",
+      base.x(), base.y(), base.z(), tool.x(), tool.y(), tool.z());
   std::printf("  ratio K | nominal   truth     found\n");
   for (int i = 0; i < nominal.dof(); ++i) {
     std::printf("  joint %d | %8.2f %8.2f %8.2f\n", i + 1, nominal.drives->ratio[i], truth.drives->ratio[i],

@@ -1,5 +1,6 @@
 #include "framework/atomic_file.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "framework/error.h"
 #include "framework/memory.h"
 
 namespace kincal {
@@ -36,7 +38,7 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
   const fs::path temp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::invalid_argument(path + ": cannot write (" + temp.string() + ")");
+    if (!out) ThrowIoError(path, "cannot write (" + temp.string() + ")");
     try {
       writer(out);
     } catch (...) {
@@ -47,19 +49,23 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     out.flush();
     out.close();
     if (!out) {
+      const int error = errno;
       std::remove(temp.c_str());
-      throw std::invalid_argument(path + ": write failed (disk full?)");
+      errno = error;
+      ThrowIoError(path, "write failed");
     }
   }
   if (!SyncPath(temp.string(), false)) {
+    const int error = errno;
     std::remove(temp.c_str());
-    throw std::invalid_argument(path + ": cannot flush to disk (" + temp.string() + ")");
+    errno = error;
+    ThrowIoError(path, "cannot flush to disk (" + temp.string() + ")");
   }
   std::error_code ec;
   fs::rename(temp, target, ec);
   if (ec) {
     std::remove(temp.c_str());
-    throw std::invalid_argument(path + ": cannot rename into place: " + ec.message());
+    throw IoError(OneLine(path + ": cannot rename into place: " + ec.message()));
   }
   // The new file is complete on disk whatever happens now; a folder that cannot be synced (some network
   // file systems refuse fsync on folders) only loses durability of the name, so it is not an error.

@@ -7,9 +7,9 @@
 namespace kincal {
 
 struct CsvRow {
-  int line = 0;                     // 1-based line in the file
+  int line = 0;  // 1-based line in the file
   std::vector<std::string> cells;
-  std::vector<int> columns;         // 1-based column of each cell's first character
+  std::vector<int> columns;  // 1-based column of each cell's first character
 };
 
 struct CsvTable {

@@ -16,24 +16,29 @@ namespace kincal {
 bool Dataset::HasEncoders() const { return !rows.empty() && !rows.front().encoders.empty(); }
 bool Dataset::HasOrientation() const { return !rows.empty() && rows.front().orientation.has_value(); }
 bool Dataset::HasSweeps() const {
-  for (const auto& r : rows) if (r.sweep != 0) return true;
+  for (const auto& r : rows)
+    if (r.sweep != 0) return true;
   return false;
 }
 bool Dataset::HasSessions() const {
-  for (const auto& r : rows) if (r.session != 0) return true;
+  for (const auto& r : rows)
+    if (r.session != 0) return true;
   return false;
 }
 bool Dataset::HasMarkers() const {
-  for (const auto& r : rows) if (!r.marker.empty()) return true;
+  for (const auto& r : rows)
+    if (!r.marker.empty()) return true;
   return false;
 }
 bool Dataset::HasSplit() const {
-  for (const auto& r : rows) if (r.split != Split::kNone) return true;
+  for (const auto& r : rows)
+    if (r.split != Split::kNone) return true;
   return false;
 }
 
 bool Dataset::HasFromColumns() const {
-  for (const auto& r : rows) if (r.from_q) return true;
+  for (const auto& r : rows)
+    if (r.from_q) return true;
   return false;
 }
 
@@ -78,7 +83,8 @@ Dataset Dataset::SelectRows(const std::vector<int>& indices) const {
 Dataset Dataset::Subset(Split which) const {
   if (which == Split::kNone) return *this;
   std::vector<int> indices;
-  for (size_t i = 0; i < rows.size(); ++i) if (rows[i].split == which) indices.push_back(static_cast<int>(i));
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].split == which) indices.push_back(static_cast<int>(i));
   return SelectRows(indices);
 }
 
@@ -101,8 +107,9 @@ void Dataset::Validate(int expected_dof) const {
       ThrowInputError(source, line, 0, row + "wrong number of encoder values");
     }
     if (m.sweep < 0 || m.sweep > expected_dof) {
-      ThrowInputError(source, line, 0, row + "sweep index " + std::to_string(m.sweep) + " out of range 0.." +
-                                           std::to_string(expected_dof));
+      ThrowInputError(
+          source, line, 0,
+          row + "sweep index " + std::to_string(m.sweep) + " out of range 0.." + std::to_string(expected_dof));
     }
   }
 }
@@ -149,20 +156,32 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
     const std::string& name = t.header.cells[i];
     std::string stem, unit;
     int index = 0;
-    if (name == "qw") c.qw = static_cast<int>(i);
-    else if (name == "qx") c.qx = static_cast<int>(i);
-    else if (name == "qy") c.qy = static_cast<int>(i);
-    else if (name == "qz") c.qz = static_cast<int>(i);
-    else if (name == "sweep") c.sweep = static_cast<int>(i);
-    else if (name == "marker") c.marker = static_cast<int>(i);
-    else if (name == "session") c.session = static_cast<int>(i);
-    else if (name == "split") c.split = static_cast<int>(i);
-    else if (IsIndexed(name, "enc", &index)) enc[index] = static_cast<int>(i);
+    if (name == "qw")
+      c.qw = static_cast<int>(i);
+    else if (name == "qx")
+      c.qx = static_cast<int>(i);
+    else if (name == "qy")
+      c.qy = static_cast<int>(i);
+    else if (name == "qz")
+      c.qz = static_cast<int>(i);
+    else if (name == "sweep")
+      c.sweep = static_cast<int>(i);
+    else if (name == "marker")
+      c.marker = static_cast<int>(i);
+    else if (name == "session")
+      c.session = static_cast<int>(i);
+    else if (name == "split")
+      c.split = static_cast<int>(i);
+    else if (IsIndexed(name, "enc", &index))
+      enc[index] = static_cast<int>(i);
     else if (SplitUnit(name, &stem, &unit) && (IsIndexed(stem, "q", &index) || IsIndexed(stem, "from_q", &index))) {
       Unit u;
-      if (unit == "deg" || unit == "rad") u = AngleUnit(unit);
-      else if (unit == "mm" || unit == "m") u = LengthUnit(unit);
-      else fail(i, "unknown unit '" + unit + "' in column '" + name + "' (expected deg, rad, mm or m)");
+      if (unit == "deg" || unit == "rad")
+        u = AngleUnit(unit);
+      else if (unit == "mm" || unit == "m")
+        u = LengthUnit(unit);
+      else
+        fail(i, "unknown unit '" + unit + "' in column '" + name + "' (expected deg, rad, mm or m)");
       (stem[0] == 'f' ? from : q)[index] = {static_cast<int>(i), u};
     } else if (SplitUnit(name, &stem, &unit) && (stem == "x" || stem == "y" || stem == "z")) {
       Unit u;
@@ -177,29 +196,34 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
       (stem == "x" ? c.x : stem == "y" ? c.y : c.z) = static_cast<int>(i);
     } else {
       fail(i, "unknown column '" + name +
-                  "' (expected q1_deg.., x_mm, y_mm, z_mm, enc1.., qw, qx, qy, qz, sweep, marker, session, split, from_q1_deg..)");
+                  "' (expected q1_deg.., x_mm, y_mm, z_mm, enc1.., qw, qx, qy, qz, sweep, marker, session, split, "
+                  "from_q1_deg..)");
     }
   }
   int expected = 1;
   for (const auto& [index, col] : q) {
-    if (index != expected) ThrowInputError(source, t.header.line, 1, "joint column q" + std::to_string(expected) + "_ is missing");
+    if (index != expected)
+      ThrowInputError(source, t.header.line, 1, "joint column q" + std::to_string(expected) + "_ is missing");
     c.q.push_back(col.first);
     c.q_units.push_back(col.second);
     ++expected;
   }
   if (!from.empty()) {
     if (from.size() != q.size()) {
-      ThrowInputError(source, t.header.line, 1, "expected one from_q column per joint (from_q1_..from_q" + std::to_string(q.size()) + "_)");
+      ThrowInputError(source, t.header.line, 1,
+                      "expected one from_q column per joint (from_q1_..from_q" + std::to_string(q.size()) + "_)");
     }
     for (int i = 1; i <= static_cast<int>(from.size()); ++i) {
-      if (!from.count(i)) ThrowInputError(source, t.header.line, 1, "column from_q" + std::to_string(i) + "_ is missing");
+      if (!from.count(i))
+        ThrowInputError(source, t.header.line, 1, "column from_q" + std::to_string(i) + "_ is missing");
       c.from.push_back(from[i].first);
       c.from_units.push_back(from[i].second);
     }
   }
   if (!enc.empty()) {
     if (static_cast<int>(enc.size()) != static_cast<int>(q.size())) {
-      ThrowInputError(source, t.header.line, 1, "expected one enc column per joint (enc1..enc" + std::to_string(q.size()) + ")");
+      ThrowInputError(source, t.header.line, 1,
+                      "expected one enc column per joint (enc1..enc" + std::to_string(q.size()) + ")");
     }
     for (int i = 1; i <= static_cast<int>(enc.size()); ++i) {
       if (!enc.count(i)) ThrowInputError(source, t.header.line, 1, "column enc" + std::to_string(i) + " is missing");
@@ -210,7 +234,8 @@ Columns MapColumns(const CsvTable& t, const std::string& source) {
     ThrowInputError(source, t.header.line, 1, "expected position columns x_mm, y_mm, z_mm (or x_m, y_m, z_m)");
   }
   const int orientation = (c.qw >= 0) + (c.qx >= 0) + (c.qy >= 0) + (c.qz >= 0);
-  if (orientation != 0 && orientation != 4) ThrowInputError(source, t.header.line, 1, "expected all of qw, qx, qy, qz or none");
+  if (orientation != 0 && orientation != 4)
+    ThrowInputError(source, t.header.line, 1, "expected all of qw, qx, qy, qz or none");
   return c;
 }
 
@@ -220,7 +245,7 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
   {
     // The cells as strings (CsvTable) and the rows (Measurement) are held at once: about this much.
     const double lines = static_cast<double>(std::count(text.begin(), text.end(), '\n')) +
-                        (text.empty() || text.back() != '\n' ? 1.0 : 0.0);
+                         (text.empty() || text.back() != '\n' ? 1.0 : 0.0);
     const double cells = static_cast<double>(std::count(text.begin(), text.end(), ',')) + lines;
     const double bytes = cells * (sizeof(std::string) + sizeof(int) + 8.0) +
                          lines * (sizeof(CsvRow) + sizeof(Measurement) + 64.0) + static_cast<double>(text.size());
@@ -266,7 +291,8 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
       for (int i = 0; i < data.dof; ++i) from[i] = number(c.from[i], "a from_q joint angle") * c.from_units[i].to_si;
       m.from_q = from;
     } else if (from_cells != 0) {
-      ThrowInputError(source, row.line, row.columns[c.from[0]], "expected every from_q cell of the row filled, or none");
+      ThrowInputError(source, row.line, row.columns[c.from[0]],
+                      "expected every from_q cell of the row filled, or none");
     }
     if (c.qw >= 0) {
       Eigen::Quaterniond quat(number(c.qw, "qw"), number(c.qx, "qx"), number(c.qy, "qy"), number(c.qz, "qz"));
@@ -274,13 +300,14 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
         ThrowInputError(source, row.line, row.columns[c.qw], "expected a unit quaternion (qw, qx, qy, qz)");
       }
       // Normalise only what is not unit to rounding already, so that writing and reading back keeps the bits.
-      m.orientation = std::abs(quat.squaredNorm() - 1.0) <= 4 * std::numeric_limits<double>::epsilon()
-                          ? quat
-                          : quat.normalized();
+      m.orientation =
+          std::abs(quat.squaredNorm() - 1.0) <= 4 * std::numeric_limits<double>::epsilon() ? quat : quat.normalized();
     }
     const auto small_integer = [&](int col, const char* what) {
       const int64_t v = integer(col, what);
-      if (std::abs(v) > 1000000) ThrowInputError(source, row.line, row.columns[col], std::string("expected ") + what + " between -1000000 and 1000000");
+      if (std::abs(v) > 1000000)
+        ThrowInputError(source, row.line, row.columns[col],
+                        std::string("expected ") + what + " between -1000000 and 1000000");
       return static_cast<int>(v);
     };
     if (c.sweep >= 0 && !row.cells[c.sweep].empty()) m.sweep = small_integer(c.sweep, "sweep");
@@ -288,9 +315,12 @@ Dataset ParseDatasetCsv(const std::string& text, const std::string& source) {
     if (c.session >= 0 && !row.cells[c.session].empty()) m.session = small_integer(c.session, "session");
     if (c.split >= 0) {
       const std::string& s = row.cells[c.split];
-      if (s == "train") m.split = Split::kTrain;
-      else if (s == "test") m.split = Split::kTest;
-      else if (!s.empty()) ThrowInputError(source, row.line, row.columns[c.split], "expected split 'train' or 'test', got '" + s + "'");
+      if (s == "train")
+        m.split = Split::kTrain;
+      else if (s == "test")
+        m.split = Split::kTest;
+      else if (!s.empty())
+        ThrowInputError(source, row.line, row.columns[c.split], "expected split 'train' or 'test', got '" + s + "'");
     }
     data.rows.push_back(std::move(m));
   }
@@ -307,14 +337,17 @@ std::string DatasetToCsv(const Dataset& data) {
   std::vector<std::string> header;
   for (int i = 1; i <= data.dof; ++i) header.push_back("q" + std::to_string(i) + "_" + data.angle_unit.name);
   for (const char* axis : {"x", "y", "z"}) header.push_back(std::string(axis) + "_" + data.length_unit.name);
-  if (enc) for (int i = 1; i <= data.dof; ++i) header.push_back("enc" + std::to_string(i));
-  if (ori) for (const char* k : {"qw", "qx", "qy", "qz"}) header.push_back(k);
+  if (enc)
+    for (int i = 1; i <= data.dof; ++i) header.push_back("enc" + std::to_string(i));
+  if (ori)
+    for (const char* k : {"qw", "qx", "qy", "qz"}) header.push_back(k);
   if (sweep) header.push_back("sweep");
   if (marker) header.push_back("marker");
   if (session) header.push_back("session");
   if (split) header.push_back("split");
   const bool from = data.HasFromColumns();
-  if (from) for (int i = 1; i <= data.dof; ++i) header.push_back("from_q" + std::to_string(i) + "_" + data.angle_unit.name);
+  if (from)
+    for (int i = 1; i <= data.dof; ++i) header.push_back("from_q" + std::to_string(i) + "_" + data.angle_unit.name);
   for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
   out << "\n";
   for (const Measurement& m : data.rows) {
@@ -322,7 +355,8 @@ std::string DatasetToCsv(const Dataset& data) {
     const auto add = [&](const std::string& s) { line += (line.empty() ? "" : ",") + s; };
     for (int i = 0; i < data.dof; ++i) add(FormatInUnit(m.q[i], data.angle_unit));
     for (int k = 0; k < 3; ++k) add(FormatInUnit(m.p[k], data.length_unit));
-    if (enc) for (int64_t e : m.encoders) add(std::to_string(e));
+    if (enc)
+      for (int64_t e : m.encoders) add(std::to_string(e));
     if (ori) {
       const Eigen::Quaterniond qq = m.orientation.value_or(Eigen::Quaterniond::Identity());
       for (double v : {qq.w(), qq.x(), qq.y(), qq.z()}) add(FormatExact(v));
@@ -331,7 +365,8 @@ std::string DatasetToCsv(const Dataset& data) {
     if (marker) add(m.marker);
     if (session) add(std::to_string(m.session));
     if (split) add(m.split == Split::kTrain ? "train" : m.split == Split::kTest ? "test" : "");
-    if (from) for (int i = 0; i < data.dof; ++i) add(m.from_q ? FormatInUnit((*m.from_q)[i], data.angle_unit) : "");
+    if (from)
+      for (int i = 0; i < data.dof; ++i) add(m.from_q ? FormatInUnit((*m.from_q)[i], data.angle_unit) : "");
     out << line << "\n";
   }
   return out.str();
@@ -344,8 +379,10 @@ void WriteDataset(const Dataset& data, const std::string& path) {
     const bool finite = m.q.allFinite() && m.p.allFinite() && (!m.orientation || m.orientation->coeffs().allFinite()) &&
                         (!m.from_q || m.from_q->allFinite());
     if (!finite) {
-      ThrowInputError(path, 0, 0, "row " + std::to_string(i + 1) + " would hold non-finite values (NaN or infinite): "
-                                  "values out of range in the robot files?");
+      ThrowInputError(path, 0, 0,
+                      "row " + std::to_string(i + 1) +
+                          " would hold non-finite values (NaN or infinite): "
+                          "values out of range in the robot files?");
     }
   }
   WriteFileAtomically(path, DatasetToCsv(data));

@@ -16,18 +16,18 @@ namespace kincal {
 enum class Split { kNone, kTrain, kTest };
 
 struct Measurement {
-  Eigen::VectorXd q;                           // commanded joint angles, rad (m for prismatic)
-  Eigen::Vector3d p = Eigen::Vector3d::Zero(); // measured marker position in the measurement frame, m
+  Eigen::VectorXd q;                              // commanded joint angles, rad (m for prismatic)
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // measured marker position in the measurement frame, m
   std::optional<Eigen::Quaterniond> orientation;  // measured tool orientation, if any
-  std::vector<int64_t> encoders;               // motor encoder counts; empty if not recorded
-  int sweep = 0;                               // 1-based joint being swept; 0 for a free pose
-  std::string marker;                          // reflector id; "" for the tool origin
-  int session = 0;                             // instrument set-up; 0 is the robot file's base
+  std::vector<int64_t> encoders;                  // motor encoder counts; empty if not recorded
+  int sweep = 0;                                  // 1-based joint being swept; 0 for a free pose
+  std::string marker;                             // reflector id; "" for the tool origin
+  int session = 0;                                // instrument set-up; 0 is the robot file's base
   Split split = Split::kNone;
   // The commanded joint angles of the pose that led to this one, when the file gives them
   // (from_q1_deg..from_qN_deg: rows filtered out of a longer sequence); see Dataset::PreviousPoses.
   std::optional<Eigen::VectorXd> from_q;
-  int line = 0;                                // line in the source file (for messages), 0 if made here
+  int line = 0;  // line in the source file (for messages), 0 if made here
 };
 
 struct Dataset {
@@ -35,9 +35,9 @@ struct Dataset {
   std::vector<Measurement> rows;
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
-  std::string source;                          // file it came from, for messages
-  int header_line = 0;                         // line of the header row in `source` (0 if made here)
-  std::vector<std::string> comments;           // '#' lines, written back at the top
+  std::string source;                 // file it came from, for messages
+  int header_line = 0;                // line of the header row in `source` (0 if made here)
+  std::vector<std::string> comments;  // '#' lines, written back at the top
 
   bool HasEncoders() const;
   bool HasOrientation() const;

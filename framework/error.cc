@@ -1,6 +1,8 @@
 #include "framework/error.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 namespace kincal {
 
@@ -34,5 +36,10 @@ void ThrowInputError(const std::string& file, int line, int column, const std::s
 }
 
 void ThrowInputError(const std::string& what) { throw std::invalid_argument(OneLine(what)); }
+
+void ThrowIoError(const std::string& path, const std::string& what) {
+  const int error = errno;
+  throw IoError(OneLine(path + ": " + what + (error != 0 ? std::string(": ") + std::strerror(error) : std::string())));
+}
 
 }  // namespace kincal

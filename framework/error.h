@@ -17,4 +17,14 @@ std::string Located(const std::string& file, int line, int column, const std::st
 [[noreturn]] void ThrowInputError(const std::string& file, int line, int column, const std::string& what);
 [[noreturn]] void ThrowInputError(const std::string& what);
 
+// A file that cannot be written or made durable (permissions, a full disk, a failed fsync or rename):
+// one line naming the file, what failed and the system's reason. Not bad input, but the command line
+// answers it the same way, exit status 2 and that line (docs/RELIABILITY.md).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+// Throws IoError "path: what: <strerror(errno)>" (errno as the failed call left it).
+[[noreturn]] void ThrowIoError(const std::string& path, const std::string& what);
+
 }  // namespace kincal

@@ -13,8 +13,8 @@ std::vector<std::string> KinematicModel::ParameterNames() const {
 
 void KinematicModel::SetParameters(const Eigen::VectorXd& values) {
   if (values.size() != values_.size()) {
-    throw std::invalid_argument("SetParameters: expected " + std::to_string(values_.size()) +
-                                " values, got " + std::to_string(values.size()));
+    throw std::invalid_argument("SetParameters: expected " + std::to_string(values_.size()) + " values, got " +
+                                std::to_string(values.size()));
   }
   values_ = values;
   OnParametersChanged();

@@ -29,7 +29,7 @@ struct ParameterInfo {
   std::string key;   // the robot-file key: "alpha", "x", "yaw", ...
   Kind kind = Kind::kLength;
   Group group = Group::kJoint;
-  int joint = 0;     // 1-based joint (row) index for Group::kJoint, 0 otherwise
+  int joint = 0;  // 1-based joint (row) index for Group::kJoint, 0 otherwise
 };
 
 class KinematicModel {
@@ -48,7 +48,10 @@ class KinematicModel {
   // Hayati and local POE (the joint turns its own frame about its z), joint for standard DH (the joint
   // turns about the previous frame's z). -1 when the convention has no such frame; joint-level gravity
   // terms (models/joint_errors.h) need one.
-  virtual int JointAxisFrame(int joint) const { (void)joint; return -1; }
+  virtual int JointAxisFrame(int joint) const {
+    (void)joint;
+    return -1;
+  }
 
   // ---- Parameters -------------------------------------------------------------------------------
   int num_parameters() const { return static_cast<int>(info_.size()); }
@@ -67,6 +70,13 @@ class KinematicModel {
   const std::vector<bool>& FreeMask() const { return free_; }
   void SetFree(const std::string& name, bool free) { free_[ParameterIndex(name)] = free; }
   void SetFreeMask(const std::vector<bool>& mask);
+  // Why parameter `index` is redundant with the others at the model's current values (an estimator
+  // holds it at its value), or "" when it is not. Conventions whose parameters are independent by
+  // construction keep the default.
+  virtual std::string RedundantParameterReason(int index) const {
+    (void)index;
+    return "";
+  }
 
   Eigen::Isometry3d base() const;  // T_meas_base (frame 0 in the measurement frame)
   Eigen::Isometry3d tool() const;  // T_n_tool

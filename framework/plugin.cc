@@ -23,7 +23,7 @@ void RegistryRegistrar::AddEstimator(const std::string& name, const std::string&
   if (estimators_->IsRegistered(name)) {
     throw std::invalid_argument("estimator name '" + name + "' is taken (" + estimators_->Get(name).description + ")");
   }
-  estimators_->Register({name, description, std::move(factory), true, ""});
+  estimators_->Register({name, description, std::move(factory), {}});
 }
 
 void RegistryRegistrar::AddCompensator(const std::string& name, const std::string& description,
@@ -34,7 +34,7 @@ void RegistryRegistrar::AddCompensator(const std::string& name, const std::strin
     throw std::invalid_argument("compensator name '" + name + "' is taken (" + compensators_->Get(name).description +
                                 ")");
   }
-  compensators_->Register({name, description, std::move(factory), true, ""});
+  compensators_->Register({name, description, std::move(factory), {}});
 }
 
 void LoadPlugin(const std::string& path, PluginRegistrar& registrar) {
@@ -54,7 +54,8 @@ void LoadPlugin(const std::string& path, PluginRegistrar& registrar) {
   dlerror();
   const auto entry = reinterpret_cast<PluginEntryPoint>(dlsym(handle, KINCAL_PLUGIN_ENTRY_POINT));
   if (!entry) {
-    throw std::invalid_argument("plugin " + path + ": no entry point " KINCAL_PLUGIN_ENTRY_POINT
+    throw std::invalid_argument("plugin " + path +
+                                ": no entry point " KINCAL_PLUGIN_ENTRY_POINT
                                 " (define one with KINCAL_PLUGIN from framework/plugin.h)");
   }
   const char* version = entry(nullptr);

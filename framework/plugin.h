@@ -40,8 +40,7 @@ class PluginRegistrar {
   virtual ~PluginRegistrar() = default;
   // Throw std::invalid_argument when the name is taken (a built-in method or another plugin's).
   virtual void AddEstimator(const std::string& name, const std::string& description, EstimatorFactory factory) = 0;
-  virtual void AddCompensator(const std::string& name, const std::string& description,
-                              CompensatorFactory factory) = 0;
+  virtual void AddCompensator(const std::string& name, const std::string& description, CompensatorFactory factory) = 0;
 };
 
 // The entry point every plugin exports (C linkage: a name dlsym finds). Called with nullptr, it returns
@@ -79,11 +78,11 @@ std::vector<std::string> PluginPathsFromEnvironment();
 
 }  // namespace kincal
 
-#define KINCAL_PLUGIN(registrar)                                                                       \
-  static void KincalPluginRegister(::kincal::PluginRegistrar& registrar);                             \
-  extern "C" __attribute__((visibility("default"))) const char* kincal_plugin_entry(                   \
-      ::kincal::PluginRegistrar* kincal_registrar) {                                                   \
-    if (kincal_registrar) KincalPluginRegister(*kincal_registrar);                                     \
-    return KINCAL_VERSION_STRING;                                                                      \
-  }                                                                                                    \
+#define KINCAL_PLUGIN(registrar)                                                     \
+  static void KincalPluginRegister(::kincal::PluginRegistrar& registrar);            \
+  extern "C" __attribute__((visibility("default"))) const char* kincal_plugin_entry( \
+      ::kincal::PluginRegistrar* kincal_registrar) {                                 \
+    if (kincal_registrar) KincalPluginRegister(*kincal_registrar);                   \
+    return KINCAL_VERSION_STRING;                                                    \
+  }                                                                                  \
   static void KincalPluginRegister(::kincal::PluginRegistrar& registrar)

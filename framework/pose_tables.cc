@@ -36,15 +36,16 @@ std::vector<TableRow> ReadTable(const std::string& path, size_t columns) {
       while (j < s.size() && !(s[j] == ' ' || s[j] == '\t' || s[j] == '\r' || s[j] == ',')) ++j;
       double v = 0.0;
       if (!ParseDouble(s.substr(i, j - i), &v) || !std::isfinite(v)) {
-        ThrowInputError(path, line, static_cast<int>(i) + 1, "expected a finite number, got '" + s.substr(i, j - i) + "'");
+        ThrowInputError(path, line, static_cast<int>(i) + 1,
+                        "expected a finite number, got '" + s.substr(i, j - i) + "'");
       }
       row.values.push_back(v);
       i = j;
     }
     if (row.values.empty()) continue;
     if (row.values.size() != columns) {
-      ThrowInputError(path, line, 1, "expected " + std::to_string(columns) + " numbers, got " +
-                                         std::to_string(row.values.size()));
+      ThrowInputError(path, line, 1,
+                      "expected " + std::to_string(columns) + " numbers, got " + std::to_string(row.values.size()));
     }
     rows.push_back(std::move(row));
   }

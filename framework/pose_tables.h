@@ -23,7 +23,7 @@
 namespace kincal {
 
 struct PoseTables {
-  std::string joints;                                       // path
+  std::string joints;                                          // path
   std::vector<std::pair<std::string, std::string>> positions;  // marker name -> path
   std::string sequence;  // path of the unfiltered joint readings (see above); "": `joints` is the whole sequence
   Unit length_unit = {"mm", 1e-3};

@@ -10,9 +10,9 @@ class Rng {
  public:
   explicit Rng(uint64_t seed);
   uint64_t NextU64();
-  double Uniform01();                      // [0, 1)
-  double Uniform(double low, double high); // [low, high)
-  double Normal();                         // mean 0, standard deviation 1
+  double Uniform01();                       // [0, 1)
+  double Uniform(double low, double high);  // [low, high)
+  double Normal();                          // mean 0, standard deviation 1
   // An independent stream derived from this seed and a label, e.g. one per Monte Carlo trial.
   static uint64_t Derive(uint64_t seed, uint64_t label);
 

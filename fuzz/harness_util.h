@@ -41,7 +41,9 @@ bool Accepts(const std::string& source, Body&& body) {
   }
 }
 
-inline std::string Text(const uint8_t* data, size_t size) { return std::string(reinterpret_cast<const char*>(data), size); }
+inline std::string Text(const uint8_t* data, size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
 
 inline void ExpectFinite(double value, const std::string& what) {
   if (!std::isfinite(value)) Finding(what + " is not finite");

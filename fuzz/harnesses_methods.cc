@@ -44,8 +44,10 @@ int FuzzOptions(const uint8_t* data, size_t size) {
     }
     // The command line prefixes option errors with the file's name (apps/cli_util); so does this.
     try {
-      if (method[0] == 'e') Estimators().Create(method.substr(2), node);
-      else Compensators().Create(method.substr(2), node);
+      if (method[0] == 'e')
+        Estimators().Create(method.substr(2), node);
+      else
+        Compensators().Create(method.substr(2), node);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(source + ": " + e.what());
     }

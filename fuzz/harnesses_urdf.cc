@@ -92,11 +92,13 @@ std::vector<Request> Requests(std::string* text) {
   xml.Parse(text->c_str());
   const TiXmlElement* robot = xml.FirstChildElement("robot");
   std::set<std::string> links, children;
-  for (const TiXmlElement* e = robot ? robot->FirstChildElement("link") : nullptr; e; e = e->NextSiblingElement("link")) {
+  for (const TiXmlElement* e = robot ? robot->FirstChildElement("link") : nullptr; e;
+       e = e->NextSiblingElement("link")) {
     // An empty name cannot be asked for (the command line refuses empty --base and --tip).
     if (e->Attribute("name") && *e->Attribute("name")) links.insert(e->Attribute("name"));
   }
-  for (const TiXmlElement* e = robot ? robot->FirstChildElement("joint") : nullptr; e; e = e->NextSiblingElement("joint")) {
+  for (const TiXmlElement* e = robot ? robot->FirstChildElement("joint") : nullptr; e;
+       e = e->NextSiblingElement("joint")) {
     const TiXmlElement* child = e->FirstChildElement("child");
     if (child && child->Attribute("link")) children.insert(child->Attribute("link"));
   }
@@ -145,7 +147,8 @@ void ExpectSameKinematics(const Robot& a, const Robot& b, const std::string& wha
     const double dp = (Ta.translation() - Tb.translation()).cwiseAbs().maxCoeff();
     const double dr = (Ta.linear() - Tb.linear()).cwiseAbs().maxCoeff();
     if (!(dp <= 1e-9 * scale) || !(dr <= 4e-9 * (a.dof() + 2))) {
-      Finding(what + ": other kinematics (position gap " + std::to_string(dp) + ", rotation gap " + std::to_string(dr) + ")");
+      Finding(what + ": other kinematics (position gap " + std::to_string(dp) + ", rotation gap " + std::to_string(dr) +
+              ")");
     }
   }
 }
@@ -172,7 +175,8 @@ void CheckImported(const Robot& robot, const Request& request) {
     ExpectFinite(low, "an imported limit");
     ExpectFinite(high, "an imported limit");
   }
-  for (Eigen::Index i = 0; i < robot.velocity_limits.size(); ++i) ExpectFinite(robot.velocity_limits[i], "a velocity limit");
+  for (Eigen::Index i = 0; i < robot.velocity_limits.size(); ++i)
+    ExpectFinite(robot.velocity_limits[i], "a velocity limit");
 
   // `kincal import` writes a robot file: it reads back with the same kinematics and provenance.
   const std::string yaml = RobotToYaml(robot);
@@ -194,8 +198,9 @@ void CheckImported(const Robot& robot, const Request& request) {
   MustSucceed(about + "the imported robot cannot be written back", [&] { edited = RobotToUrdf(robot); });
   const std::string edited_path = WriteFile("edited.urdf", edited);
   Robot reread;
-  MustSucceed(about + "the URDF written back is refused\n" + edited,
-              [&] { reread = ImportUrdf(edited_path, {request.base, request.tip, "urdf"}); });
+  MustSucceed(about + "the URDF written back is refused\n" + edited, [&] {
+    reread = ImportUrdf(edited_path, {request.base, request.tip, "urdf"});
+  });
   ExpectSameKinematics(robot, reread, about + "the URDF written back");
 
   Robot plain = robot;
@@ -204,7 +209,9 @@ void CheckImported(const Robot& robot, const Request& request) {
   MustSucceed(about + "the imported robot cannot be written as a new URDF", [&] { fresh = RobotToUrdf(plain); });
   const std::string fresh_path = WriteFile("new.urdf", fresh);
   Robot read_fresh;
-  MustSucceed(about + "the new URDF is refused\n" + fresh, [&] { read_fresh = ImportUrdf(fresh_path, {"world", "tool0", "urdf"}); });
+  MustSucceed(about + "the new URDF is refused\n" + fresh, [&] {
+    read_fresh = ImportUrdf(fresh_path, {"world", "tool0", "urdf"});
+  });
   ExpectSameKinematics(robot, read_fresh, about + "the new URDF");
 }
 

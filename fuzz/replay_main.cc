@@ -16,11 +16,13 @@ struct NamedHarness {
   const char* name;
   int (*run)(const uint8_t* data, size_t size);
 };
-const NamedHarness kHarnesses[] = {
-    {"robot_file", kincal::fuzz::FuzzRobotFile}, {"dataset", kincal::fuzz::FuzzDataset},
-    {"targets", kincal::fuzz::FuzzTargets},      {"study_file", kincal::fuzz::FuzzStudyFile},
-    {"options", kincal::fuzz::FuzzOptions},      {"pipeline", kincal::fuzz::FuzzPipeline},
-    {"urdf", kincal::fuzz::FuzzUrdf}};
+const NamedHarness kHarnesses[] = {{"robot_file", kincal::fuzz::FuzzRobotFile},
+                                   {"dataset", kincal::fuzz::FuzzDataset},
+                                   {"targets", kincal::fuzz::FuzzTargets},
+                                   {"study_file", kincal::fuzz::FuzzStudyFile},
+                                   {"options", kincal::fuzz::FuzzOptions},
+                                   {"pipeline", kincal::fuzz::FuzzPipeline},
+                                   {"urdf", kincal::fuzz::FuzzUrdf}};
 
 }  // namespace
 

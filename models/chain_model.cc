@@ -58,9 +58,15 @@ void ChainModel::BuildChain(std::vector<JointType> joint_types, std::vector<Para
 inline void ChainModel::Apply(Op::Type type, double value, double c, double s, Frame* F) {
   Eigen::Matrix3d& R = F->R;
   switch (type) {
-    case Op::kTx: F->p += R.col(0) * value; break;
-    case Op::kTy: F->p += R.col(1) * value; break;
-    case Op::kTz: F->p += R.col(2) * value; break;
+    case Op::kTx:
+      F->p += R.col(0) * value;
+      break;
+    case Op::kTy:
+      F->p += R.col(1) * value;
+      break;
+    case Op::kTz:
+      F->p += R.col(2) * value;
+      break;
     case Op::kRx: {
       const Eigen::Vector3d y = R.col(1);
       R.col(1) = y * c + R.col(2) * s;

@@ -65,8 +65,8 @@ class ChainModel : public KinematicModel {
   void CheckJoints(const Eigen::VectorXd& q) const;
 
   std::vector<Op> ops_;
-  std::vector<Step> steps_;     // ops_ without the exact identities, for the current parameters
-  std::vector<Op> joint_ops_;   // one per joint, in order
+  std::vector<Step> steps_;        // ops_ without the exact identities, for the current parameters
+  std::vector<Op> joint_ops_;      // one per joint, in order
   std::vector<double> cos_, sin_;  // of each op's parameter value (joint ops: of the parameter alone)
 };
 

@@ -42,7 +42,8 @@ std::unique_ptr<KinematicModel> DhFromMdh(const KinematicModel& mdh) {
   }
   dh->SetParameters(p);
   Eigen::Isometry3d lead = Eigen::Isometry3d::Identity();
-  lead.translate(Eigen::Vector3d(Dh(mdh, 0, kA), 0, 0)).rotate(Eigen::AngleAxisd(Dh(mdh, 0, kAlpha), Eigen::Vector3d::UnitX()));
+  lead.translate(Eigen::Vector3d(Dh(mdh, 0, kA), 0, 0))
+      .rotate(Eigen::AngleAxisd(Dh(mdh, 0, kAlpha), Eigen::Vector3d::UnitX()));
   dh->SetBase(mdh.base() * lead);
   dh->SetTool(mdh.tool());
   return dh;
@@ -139,7 +140,8 @@ std::unique_ptr<KinematicModel> MdhFromAxes(const KinematicModel& model) {
         incoming = foot_b;
       } else {
         const Eigen::Vector3d gap = (b.point - origin) - a.direction * a.direction.dot(b.point - origin);
-        x = gap.norm() > 1e-12 ? gap.normalized() : Eigen::Vector3d(previous_x - a.direction * a.direction.dot(previous_x));
+        x = gap.norm() > 1e-12 ? gap.normalized()
+                               : Eigen::Vector3d(previous_x - a.direction * a.direction.dot(previous_x));
         incoming = origin + gap;
       }
     } else {
@@ -175,7 +177,8 @@ std::unique_ptr<KinematicModel> ToMdh(const KinematicModel& model) {
   if (model.convention() == "dh") return MdhFromDh(model);
   if (model.convention() == "hayati") {
     bool zero_beta = true;
-    for (int i = 0; i < model.dof(); ++i) zero_beta = zero_beta && model.Parameter("beta_" + std::to_string(i + 1)) == 0.0;
+    for (int i = 0; i < model.dof(); ++i)
+      zero_beta = zero_beta && model.Parameter("beta_" + std::to_string(i + 1)) == 0.0;
     if (zero_beta) return MdhFromZeroBetaHayati(model);
   }
   return MdhFromAxes(model);
@@ -233,8 +236,9 @@ std::unique_ptr<KinematicModel> ConvertModel(const KinematicModel& model, const 
   if (!out->Parameters().allFinite()) Refuse(model, convention, "the conversion gave non-finite parameters");
   const double difference = KinematicDifference(model, *out);
   if (difference > 1e-9) {
-    Refuse(model, convention, "the converted forward kinematics differ by " + std::to_string(difference) +
-                                  " (relative); the joint axes may be degenerate for this convention");
+    Refuse(model, convention,
+           "the converted forward kinematics differ by " + std::to_string(difference) +
+               " (relative); the joint axes may be degenerate for this convention");
   }
   // Only mdh and hayati share the meaning of their names (the other conversions move numbers between
   // rows); there the fixed/free state carries over, elsewhere everything starts free.
@@ -242,7 +246,8 @@ std::unique_ptr<KinematicModel> ConvertModel(const KinematicModel& model, const 
                          (convention == "mdh" || convention == "hayati");
   if (same_rows) {
     for (const auto& info : model.parameter_info()) {
-      if (out->FindParameter(info.name) >= 0) out->SetFree(info.name, model.FreeMask()[model.ParameterIndex(info.name)]);
+      if (out->FindParameter(info.name) >= 0)
+        out->SetFree(info.name, model.FreeMask()[model.ParameterIndex(info.name)]);
     }
   }
   return out;

@@ -12,15 +12,15 @@ void DriveModel::Validate(int expected_dof) const {
     fail("expected " + std::to_string(expected_dof) + " ratios, got " + std::to_string(ratio.size()));
   }
   if (counts_per_rev.size() != expected_dof) {
-    fail("expected " + std::to_string(expected_dof) + " counts_per_rev, got " +
-         std::to_string(counts_per_rev.size()));
+    fail("expected " + std::to_string(expected_dof) + " counts_per_rev, got " + std::to_string(counts_per_rev.size()));
   }
   if (encoder_zero.size() != expected_dof) {
     fail("expected " + std::to_string(expected_dof) + " encoder_zero values, got " +
          std::to_string(encoder_zero.size()));
   }
   for (int i = 0; i < expected_dof; ++i) {
-    if (!std::isfinite(ratio[i]) || ratio[i] == 0.0) fail("ratio of joint " + std::to_string(i + 1) + " must be finite and non-zero");
+    if (!std::isfinite(ratio[i]) || ratio[i] == 0.0)
+      fail("ratio of joint " + std::to_string(i + 1) + " must be finite and non-zero");
     if (!std::isfinite(counts_per_rev[i]) || counts_per_rev[i] <= 0.0) {
       fail("counts_per_rev of joint " + std::to_string(i + 1) + " must be positive");
     }

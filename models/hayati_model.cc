@@ -39,4 +39,15 @@ bool HayatiBetaIsRedundant(const KinematicModel& model, int joint) {
   return std::abs(cos_angle) < std::cos(kHayatiParallelAxes);
 }
 
+std::string HayatiModel::RedundantParameterReason(int index) const {
+  const ParameterInfo& info = parameter_info()[index];
+  if (info.group != ParameterInfo::Group::kJoint || info.key != "beta" || !HayatiBetaIsRedundant(*this, info.joint)) {
+    return "";
+  }
+  if (info.joint == 1) return "Hayati's beta where axis 1 is not parallel to the base's z: redundant with the base";
+  const std::string i = std::to_string(info.joint), before = std::to_string(info.joint - 1);
+  return "Hayati's beta where axes " + before + " and " + i + " are not parallel: redundant with d_" + before +
+         " and theta_" + before;
+}
+
 }  // namespace kincal

@@ -28,6 +28,8 @@ class HayatiModel final : public ChainModel {
   std::string convention() const override { return "hayati"; }
   int JointAxisFrame(int joint) const override { return joint + 1; }
   std::vector<std::string> RowKeys() const override { return {"alpha", "a", "beta", "theta", "d"}; }
+  // beta_i where HayatiBetaIsRedundant: redundant with the base (row 1) or with d_{i-1} and theta_{i-1}.
+  std::string RedundantParameterReason(int index) const override;
 };
 
 }  // namespace kincal

@@ -31,7 +31,8 @@ struct GravityRegressor {
   int axis_frame, j, component;
 
   Eigen::Vector3d Arm() const {
-    return component < 0 ? Eigen::Vector3d(f->poses[j].translation() - a) : Eigen::Vector3d(f->poses[j].linear().col(component));
+    return component < 0 ? Eigen::Vector3d(f->poses[j].translation() - a)
+                         : Eigen::Vector3d(f->poses[j].linear().col(component));
   }
   double Value() const { return w.dot(Arm().cross(f->g)); }
   // Derivative along a twist (v, om) that moves frames first.. .
@@ -92,12 +93,14 @@ Eigen::VectorXd EvaluateRegressors(const JointErrors& errors, const JointErrorCo
       case T::kGravity: {
         const int fa = model.JointAxisFrame(i);
         for (const auto& key : term.keys) {
-          const GravityRegressor r{&frames, frames.poses[fa].linear().col(2), frames.poses[fa].translation(), fa,
-                                   LinkOf(key), ComponentOf(key)};
+          const GravityRegressor r{
+              &frames,         frames.poses[fa].linear().col(2), frames.poses[fa].translation(), fa, LinkOf(key),
+              ComponentOf(key)};
           phi[k] = r.Value();
           if (d.d_qbar) {
             for (int m = 0; m < n; ++m) {
-              (*d.d_qbar)(k, m) = r.Along(frames.joint_twists.col(m).head<3>(), frames.joint_twists.col(m).tail<3>(), m + 1);
+              (*d.d_qbar)(k, m) =
+                  r.Along(frames.joint_twists.col(m).head<3>(), frames.joint_twists.col(m).tail<3>(), m + 1);
             }
           }
           if (d.d_parameters) {

@@ -7,10 +7,14 @@ namespace kincal {
 
 std::string JointErrorTerm::TypeName(Type type) {
   switch (type) {
-    case Type::kGravity: return "gravity";
-    case Type::kHarmonic: return "harmonic";
-    case Type::kBacklash: return "backlash";
-    case Type::kApproach: return "approach";
+    case Type::kGravity:
+      return "gravity";
+    case Type::kHarmonic:
+      return "harmonic";
+    case Type::kBacklash:
+      return "backlash";
+    case Type::kApproach:
+      return "approach";
   }
   return "?";
 }
@@ -19,7 +23,8 @@ JointErrorTerm::Type JointErrorTerm::TypeFromName(const std::string& name) {
   for (Type t : {Type::kGravity, Type::kHarmonic, Type::kBacklash, Type::kApproach}) {
     if (TypeName(t) == name) return t;
   }
-  throw std::invalid_argument("unknown joint error type '" + name + "' (expected gravity, harmonic, backlash or approach)");
+  throw std::invalid_argument("unknown joint error type '" + name +
+                              "' (expected gravity, harmonic, backlash or approach)");
 }
 
 JointErrorTerm::CoefficientKind JointErrorTerm::KindOf(Type type, const std::string& key) {
@@ -55,8 +60,12 @@ std::vector<std::string> KeysFor(const JointErrorTerm& term, const KinematicMode
         keys.push_back("cos" + std::to_string(h));
       }
       break;
-    case T::kBacklash: keys.push_back("sign"); break;
-    case T::kApproach: keys.push_back("speed"); break;
+    case T::kBacklash:
+      keys.push_back("sign");
+      break;
+    case T::kApproach:
+      keys.push_back("speed");
+      break;
   }
   return keys;
 }
@@ -78,7 +87,8 @@ void JointErrors::Bind(const KinematicModel& model) {
       std::set<int> orders;
       for (int h : term.orders) {
         if (h < 1 || h > 1000) throw std::invalid_argument("the " + what + ": orders must be whole numbers 1..1000");
-        if (!orders.insert(h).second) throw std::invalid_argument("the " + what + " repeats order " + std::to_string(h));
+        if (!orders.insert(h).second)
+          throw std::invalid_argument("the " + what + " repeats order " + std::to_string(h));
       }
       if (prismatic) throw std::invalid_argument("the " + what + ": harmonic terms model a revolute joint's gears");
     }
@@ -93,7 +103,8 @@ void JointErrors::Bind(const KinematicModel& model) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(keys.size()));
     for (size_t k = 0; k < keys.size(); ++k) {
       for (size_t old = 0; old < term.keys.size() && old < static_cast<size_t>(term.coefficients.size()); ++old) {
-        if (term.keys[old] == keys[k]) c[static_cast<Eigen::Index>(k)] = term.coefficients[static_cast<Eigen::Index>(old)];
+        if (term.keys[old] == keys[k])
+          c[static_cast<Eigen::Index>(k)] = term.coefficients[static_cast<Eigen::Index>(old)];
       }
     }
     term.keys = keys;
@@ -161,7 +172,8 @@ bool JointErrors::uses_previous() const {
 }
 
 bool JointErrors::uses_velocity_limits() const {
-  for (const auto& t : terms) if (t.type == JointErrorTerm::Type::kApproach) return true;
+  for (const auto& t : terms)
+    if (t.type == JointErrorTerm::Type::kApproach) return true;
   return false;
 }
 
@@ -190,7 +202,8 @@ void EvaluateJointErrorMap(const JointErrors& errors, const JointErrorContext& c
   const auto chain = [&](const Eigen::MatrixXd& d_phi, Eigen::MatrixXd* dq) {
     int k = 0;
     for (const auto& t : errors.terms) {
-      for (Eigen::Index m = 0; m < t.coefficients.size(); ++m, ++k) dq->row(t.joint) += t.coefficients[m] * d_phi.row(k);
+      for (Eigen::Index m = 0; m < t.coefficients.size(); ++m, ++k)
+        dq->row(t.joint) += t.coefficients[m] * d_phi.row(k);
     }
   };
   if (want.qbar) {

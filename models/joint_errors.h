@@ -1,5 +1,5 @@
 #pragma once
-// Joint-level errors of a real arm (issue 11): what makes a joint end where its reading does not say,
+// Joint-level errors of a real arm: what makes a joint end where its reading does not say,
 // beyond the geometry. The classic non-geometric errors: gravity deflection (Whitney, Lozinski and
 // Rourke 1986; Judd and Knasinski 1990), gear eccentricity, backlash (Gong, Yuan and Ni 2000), plus the
 // speed of the move that led to the pose. The actual angle of joint i is

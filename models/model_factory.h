@@ -8,7 +8,8 @@
 
 namespace kincal {
 
-// "mdh" or "dh"; throws std::invalid_argument naming the known conventions.
+// "mdh", "dh", "hayati", "poe" or "urdf" (ModelConventions()); throws std::invalid_argument naming the
+// known conventions for any other name.
 std::unique_ptr<KinematicModel> MakeModel(const std::string& convention, const std::vector<JointType>& joints);
 std::vector<std::string> ModelConventions();
 

@@ -83,7 +83,8 @@ PoeModel PoeModel::FromModel(const KinematicModel& model) {
     if (model.joint_type(i) == JointType::kPrismatic) {
       // z is measured along the joint axis: t = (x, y, 0) + z * R e_z.
       const double along = T_rel.linear()(2, 2);
-      if (std::abs(along) < 1e-9) throw std::invalid_argument("PoeModel::FromModel: prismatic axis perpendicular to its parent's z");
+      if (std::abs(along) < 1e-9)
+        throw std::invalid_argument("PoeModel::FromModel: prismatic axis perpendicular to its parent's z");
       const double z = T_rel.translation().z() / along;
       p.segment<3>(7 * i) = T_rel.translation() - z * T_rel.linear().col(2);
       p[7 * i + 2] = z;

@@ -21,7 +21,8 @@ UrdfModel::UrdfModel(std::vector<JointType> joint_types) {
     const int first = kRow * i;
     for (int k = 0; k < kRow; ++k) {
       const bool length = k < 3 || (k == 8 && !revolute);
-      info.push_back({keys[k] + "_" + std::to_string(i + 1), keys[k], length ? K::kLength : K::kAngle, G::kJoint, i + 1});
+      info.push_back(
+          {keys[k] + "_" + std::to_string(i + 1), keys[k], length ? K::kLength : K::kAngle, G::kJoint, i + 1});
     }
     const int link = i + 1;
     ops.push_back({Op::kTx, first + 0, -1, link});

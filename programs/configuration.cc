@@ -71,7 +71,8 @@ std::vector<int> ConfigurationRules::Of(const Eigen::VectorXd& q) const {
     const bool behind_lower = (sides[1] < 0) != (zero_side_ < 0);
     return {Quadrant(q[0]), Quadrant(q[3]), Quadrant(q[5]), 4 * behind1 + 2 * behind_lower + negative5};
   }
-  const int status = ((sides[0] < 0) != (zero_front_ < 0) ? 1 : 0) + ((sides[1] < 0) == (home_side_ < 0) ? 2 : 0) + (negative5 ? 4 : 0);
+  const int status = ((sides[0] < 0) != (zero_front_ < 0) ? 1 : 0) + ((sides[1] < 0) == (home_side_ < 0) ? 2 : 0) +
+                     (negative5 ? 4 : 0);
   int turn = 0;
   for (int j = 0; j < 6; ++j) turn |= (q[j] < 0 ? 1 : 0) << j;
   return {status, turn};

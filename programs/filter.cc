@@ -127,8 +127,8 @@ FilteredProgram ProgramFilter::Filter(const ProgramFormat& format, const std::st
       const Eigen::VectorXd q_model =
           controller_.coupling.size() ? Eigen::VectorXd(controller_.coupling * r.q_command) : r.q_command;
       const Eigen::Isometry3d T = T_frame_meas * controller_.model().ForwardKinematics(q_model);
-      numbers = format.PoseNumbers(target, T, target.configuration.empty() ? std::vector<int>() : rules_->Of(r.q_command),
-                                   r.q_command);
+      numbers = format.PoseNumbers(
+          target, T, target.configuration.empty() ? std::vector<int>() : rules_->Of(r.q_command), r.q_command);
     } else {
       numbers = format.JointNumbers(target, r.q_command);
     }

@@ -40,9 +40,9 @@ struct FilterOptions {
 
 struct FilterReport {
   int pose_targets = 0, joint_targets = 0;
-  int filtered = 0;     // reached and written
+  int filtered = 0;                      // reached and written
   std::vector<std::string> not_reached;  // "path:line: why", in program order
-  int branch_changed = 0;  // reached only on another branch than the named one (its fields rewritten)
+  int branch_changed = 0;                // reached only on another branch than the named one (its fields rewritten)
   double max_position_error = 0.0, max_orientation_error = 0.0;  // m, rad: identified arm, filtered targets
 };
 

@@ -59,8 +59,8 @@ class KrlFormat final : public ProgramFormat {
                                   const std::vector<int>& configuration, const Eigen::VectorXd&) const override {
     std::vector<double> v;
     for (int k = 0; k < 3; ++k) v.push_back(T.translation()[k] * 1e3);
-    const Eigen::Vector3d abc = AbcNear(
-        T.linear(), Eigen::Vector3d(target.numbers[3].value, target.numbers[4].value, target.numbers[5].value));
+    const Eigen::Vector3d abc =
+        AbcNear(T.linear(), Eigen::Vector3d(target.numbers[3].value, target.numbers[4].value, target.numbers[5].value));
     for (int k = 0; k < 3; ++k) v.push_back(abc[k]);
     for (int c : configuration) v.push_back(c);
     return v;
@@ -143,7 +143,8 @@ class KrlFormat final : public ProgramFormat {
     target.column = 1;
     const auto need = [&](const std::string& name) {
       const auto it = parts.find(name);
-      if (it == parts.end()) ThrowAt(path, t, open, type + " without " + name + ": kincal filters complete targets only");
+      if (it == parts.end())
+        ThrowAt(path, t, open, type + " without " + name + ": kincal filters complete targets only");
       target.numbers.push_back(it->second);
       return it->second.value;
     };
@@ -160,15 +161,16 @@ class KrlFormat final : public ProgramFormat {
     for (int k = 0; k < 3; ++k) abc[k] = need(std::string(1, "ABC"[k])) * kDeg;
     const bool s = parts.count("S") != 0, tt = parts.count("T") != 0;
     if (type == "FRAME" && (s || tt)) ThrowAt(path, t, open, "a FRAME has no S and T");
-    if (s != tt) ThrowAt(path, t, open, "S without T (or T without S) names half a configuration: give both or neither");
+    if (s != tt)
+      ThrowAt(path, t, open, "S without T (or T without S) names half a configuration: give both or neither");
     if (s) {
       target.configuration = {static_cast<int>(need("S")), static_cast<int>(need("T"))};
     }
     target.T_frame_tool.translation() = p;
-    target.T_frame_tool.linear() = (Eigen::AngleAxisd(abc[0], Eigen::Vector3d::UnitZ()) *
-                                    Eigen::AngleAxisd(abc[1], Eigen::Vector3d::UnitY()) *
-                                    Eigen::AngleAxisd(abc[2], Eigen::Vector3d::UnitX()))
-                                       .toRotationMatrix();
+    target.T_frame_tool.linear() =
+        (Eigen::AngleAxisd(abc[0], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(abc[1], Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(abc[2], Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
     out->push_back(std::move(target));
   }
 };

@@ -23,9 +23,9 @@ enum class ConfigurationConvention {
 
 struct NumberSpan {
   size_t begin = 0, end = 0;  // bytes [begin, end) of the text
-  double value = 0.0;          // as written, in the file's unit
-  bool integer = false;        // a configuration field (written back as an integer)
-  bool binary = false;         // KRL 'B0110' literal (written back in binary, same digit count)
+  double value = 0.0;         // as written, in the file's unit
+  bool integer = false;       // a configuration field (written back as an integer)
+  bool binary = false;        // KRL 'B0110' literal (written back in binary, same digit count)
 };
 
 struct ProgramTarget {
@@ -35,7 +35,7 @@ struct ProgramTarget {
   // The spans the filter may rewrite, in the format's order (its WriteNumbers fills the same count).
   std::vector<NumberSpan> numbers;
   Eigen::Isometry3d T_frame_tool = Eigen::Isometry3d::Identity();  // kPose
-  Eigen::VectorXd q;                                                 // kJoints: readings (rad)
+  Eigen::VectorXd q;                                               // kJoints: readings (rad)
   // kPose: the configuration fields as written (format-specific order), empty when the target has none;
   // a target with seeds (CSV) gives them in `seed` (rad) instead.
   std::vector<int> configuration;

@@ -151,17 +151,19 @@ class RapidFormat final : public ProgramFormat {
         declared = IsWordAt(t, i, "robtarget") ? "robtarget" : "jointtarget";
         i += declared.size();
       } else if (IsWordAt(t, i, "offs") || IsWordAt(t, i, "reltool")) {
-        ThrowAt(path, t, i, "Offs and RelTool compute targets with the nominal geometry at run time: kincal filters "
-                            "only literal targets (write the offset targets out)");
+        ThrowAt(path, t, i,
+                "Offs and RelTool compute targets with the nominal geometry at run time: kincal filters "
+                "only literal targets (write the offset targets out)");
       } else if (c == '[') {
         const Node node = scan.Aggregate(&i);
         const size_t before = out.size();
         Collect(node, t, path, lines, &out);  // an array declaration holds several
         if (!declared.empty() && out.size() == before) {
-          ThrowAt(path, t, node.begin, "a " + declared + " must be " +
-                                           (declared == "robtarget" ? "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[6 external axes]]"
-                                                                    : "[[6 robot axes],[6 external axes]]") +
-                                           " with numbers only");
+          ThrowAt(path, t, node.begin,
+                  "a " + declared + " must be " +
+                      (declared == "robtarget" ? "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[6 external axes]]"
+                                               : "[[6 robot axes],[6 external axes]]") +
+                      " with numbers only");
         }
       } else {
         ++i;

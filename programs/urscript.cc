@@ -82,8 +82,8 @@ class UrScriptFormat final : public ProgramFormat {
         target.kind = ProgramTarget::Kind::kPose;
         const Eigen::Vector3d rv(numbers[3].value, numbers[4].value, numbers[5].value);
         target.T_frame_tool.translation() = Eigen::Vector3d(numbers[0].value, numbers[1].value, numbers[2].value);
-        target.T_frame_tool.linear() =
-            rv.norm() > 0 ? Eigen::AngleAxisd(rv.norm(), rv.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+        target.T_frame_tool.linear() = rv.norm() > 0 ? Eigen::AngleAxisd(rv.norm(), rv.normalized()).toRotationMatrix()
+                                                     : Eigen::Matrix3d::Identity();
       } else {
         target.kind = ProgramTarget::Kind::kJoints;
         target.q.resize(6);
@@ -111,7 +111,8 @@ class UrScriptFormat final : public ProgramFormat {
   static bool IsTarget(const std::string& t, size_t start) {
     size_t k = start;
     while (k > 0 && (t[k - 1] == ' ' || t[k - 1] == '\t')) --k;
-    if (k > 0 && t[k - 1] == '=' && (k < 2 || (t[k - 2] != '=' && t[k - 2] != '!' && t[k - 2] != '<' && t[k - 2] != '>'))) {
+    if (k > 0 && t[k - 1] == '=' &&
+        (k < 2 || (t[k - 2] != '=' && t[k - 2] != '!' && t[k - 2] != '<' && t[k - 2] != '>'))) {
       return true;
     }
     // The call whose argument list holds the literal: back to the unmatched '(' on this statement.

@@ -29,12 +29,18 @@ YAML::Node ToYaml(const py::handle& object) {
 
 py::object ToPython(const nlohmann::json& json) {
   switch (json.type()) {
-    case nlohmann::json::value_t::null: return py::none();
-    case nlohmann::json::value_t::boolean: return py::bool_(json.get<bool>());
-    case nlohmann::json::value_t::number_integer: return py::int_(json.get<int64_t>());
-    case nlohmann::json::value_t::number_unsigned: return py::int_(json.get<uint64_t>());
-    case nlohmann::json::value_t::number_float: return py::float_(json.get<double>());
-    case nlohmann::json::value_t::string: return py::str(json.get<std::string>());
+    case nlohmann::json::value_t::null:
+      return py::none();
+    case nlohmann::json::value_t::boolean:
+      return py::bool_(json.get<bool>());
+    case nlohmann::json::value_t::number_integer:
+      return py::int_(json.get<int64_t>());
+    case nlohmann::json::value_t::number_unsigned:
+      return py::int_(json.get<uint64_t>());
+    case nlohmann::json::value_t::number_float:
+      return py::float_(json.get<double>());
+    case nlohmann::json::value_t::string:
+      return py::str(json.get<std::string>());
     case nlohmann::json::value_t::array: {
       py::list list;
       for (const auto& item : json) list.append(ToPython(item));
@@ -45,7 +51,8 @@ py::object ToPython(const nlohmann::json& json) {
       for (const auto& [key, value] : json.items()) dict[py::str(key)] = ToPython(value);
       return std::move(dict);
     }
-    default: return py::none();
+    default:
+      return py::none();
   }
 }
 

@@ -45,7 +45,8 @@ py::dict ToNumpy(const Dataset& d) {
     py::array_t<int64_t> e({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d.dof)});
     auto a = e.mutable_unchecked<2>();
     for (long i = 0; i < n; ++i)
-      for (int j = 0; j < d.dof; ++j) a(i, j) = j < static_cast<int>(d.rows[i].encoders.size()) ? d.rows[i].encoders[j] : 0;
+      for (int j = 0; j < d.dof; ++j)
+        a(i, j) = j < static_cast<int>(d.rows[i].encoders.size()) ? d.rows[i].encoders[j] : 0;
     out["encoders"] = e;
   }
   const auto column = [&](auto get) {
@@ -140,33 +141,40 @@ angles q (rad) and the measured marker position p (m) in the measurement frame, 
            py::arg("length_unit") = "mm", py::arg("angle_unit") = "deg",
            "A dataset from arrays (SI); the units are those save() writes the file in.")
       .def("to_numpy", &ToNumpy, "Every column the dataset has, as a dict of arrays (SI units).")
-      .def_property_readonly("q", [](const Dataset& d) -> py::object { return ToNumpy(d)["q"]; }, "N x n joint angles, rad.")
-      .def_property_readonly("p", [](const Dataset& d) -> py::object { return ToNumpy(d)["p"]; }, "N x 3 marker positions, m.")
+      .def_property_readonly(
+          "q", [](const Dataset& d) -> py::object { return ToNumpy(d)["q"]; }, "N x n joint angles, rad.")
+      .def_property_readonly(
+          "p", [](const Dataset& d) -> py::object { return ToNumpy(d)["p"]; }, "N x 3 marker positions, m.")
       .def_readonly("dof", &Dataset::dof)
       .def_readwrite("comments", &Dataset::comments)
       .def_readonly("source", &Dataset::source)
       .def_property_readonly("length_unit", [](const Dataset& d) { return d.length_unit.name; })
       .def_property_readonly("angle_unit", [](const Dataset& d) { return d.angle_unit.name; })
       .def("__len__", [](const Dataset& d) { return d.rows.size(); })
-      .def("subset", [](const Dataset& d, const std::string& which) { return d.Subset(SplitFrom(which, "subset")); },
-           py::arg("which"), "The 'train' or 'test' rows (each keeps the pose that led to it).")
-      .def("select_rows",
-           [](const Dataset& d, const std::vector<int>& rows) {
-             for (int r : rows)
-               if (r < 0 || r >= static_cast<int>(d.rows.size()))
-                 throw std::invalid_argument("select_rows: row " + std::to_string(r) + " is out of range (" +
-                                             std::to_string(d.rows.size()) + " rows)");
-             return d.SelectRows(rows);
-           },
-           py::arg("rows"), "Rows by index, in the order given (each keeps the pose that led to it).")
+      .def(
+          "subset", [](const Dataset& d, const std::string& which) { return d.Subset(SplitFrom(which, "subset")); },
+          py::arg("which"), "The 'train' or 'test' rows (each keeps the pose that led to it).")
+      .def(
+          "select_rows",
+          [](const Dataset& d, const std::vector<int>& rows) {
+            for (int r : rows)
+              if (r < 0 || r >= static_cast<int>(d.rows.size()))
+                throw std::invalid_argument("select_rows: row " + std::to_string(r) + " is out of range (" +
+                                            std::to_string(d.rows.size()) + " rows)");
+            return d.SelectRows(rows);
+          },
+          py::arg("rows"), "Rows by index, in the order given (each keeps the pose that led to it).")
       .def("to_csv", &DatasetToCsv, "The dataset file's text (its units).")
-      .def("save", [](const Dataset& d, const py::object& path) { WriteDataset(d, FsPath(path)); }, py::arg("path"),
-           "Writes the CSV atomically.")
+      .def(
+          "save", [](const Dataset& d, const py::object& path) { WriteDataset(d, FsPath(path)); }, py::arg("path"),
+          "Writes the CSV atomically.")
       .def("__repr__", [](const Dataset& d) {
         return "<kincal.Dataset " + std::to_string(d.rows.size()) + " rows, " + std::to_string(d.dof) + " joints>";
       });
 
-  m.def("load_dataset", [](const py::object& path) { return ReadDataset(FsPath(path)); }, py::arg("path"), "Reads a dataset (CSV); kincal.Error on bad input.");
+  m.def(
+      "load_dataset", [](const py::object& path) { return ReadDataset(FsPath(path)); }, py::arg("path"),
+      "Reads a dataset (CSV); kincal.Error on bad input.");
   m.def("parse_dataset", &ParseDatasetCsv, py::arg("text"), py::arg("source") = "<string>");
 }
 

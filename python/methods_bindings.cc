@@ -11,6 +11,7 @@
 
 #include "framework/error.h"
 #include "compensators/compensator.h"
+#include "compensators/program.h"
 #include "estimators/estimator.h"
 #include "robot/prediction.h"
 #include "robot/simulator.h"
@@ -43,7 +44,8 @@ std::vector<YAML::Node> OptionsPerMethod(const py::object& options, const std::v
   const py::dict dict = options.cast<py::dict>();
   bool keyed = dict.size() > 0;
   for (const auto& kv : dict) {
-    if (std::find(methods.begin(), methods.end(), py::str(kv.first).cast<std::string>()) == methods.end()) keyed = false;
+    if (std::find(methods.begin(), methods.end(), py::str(kv.first).cast<std::string>()) == methods.end())
+      keyed = false;
   }
   if (!keyed && methods.size() > 1) {
     throw std::invalid_argument("options: with several methods, the options must be keyed by method name");
@@ -131,7 +133,8 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
                     std::optional<Eigen::MatrixXd> from_q) {
   // Targets: N x 3 positions, or N x 16 (rows of 4x4 poses, flattened by the Python wrapper below).
   const bool poses = targets.cols() == 16;
-  if (!poses && targets.cols() != 3) throw std::invalid_argument("targets: expected N x 3 positions or N x 4 x 4 poses");
+  if (!poses && targets.cols() != 3)
+    throw std::invalid_argument("targets: expected N x 3 positions or N x 4 x 4 poses");
   const long n = targets.rows(), dof = nominal.dof();
   if (seeds) CheckSize("seeds (rows)", n, seeds->rows()), CheckSize("seeds (columns)", dof, seeds->cols());
   if (from_q) CheckSize("from_q (rows)", n, from_q->rows()), CheckSize("from_q (columns)", dof, from_q->cols());
@@ -141,10 +144,12 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
   {
     py::gil_scoped_release release;
     compensator->Prepare(nominal, identified);
+    std::vector<CompensationTarget> program(n);
     for (long i = 0; i < n; ++i) {
-      CompensationTarget t;
+      CompensationTarget& t = program[i];
       if (poses) {
-        t.T_meas_tool.matrix() = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(targets.row(i).eval().data());
+        t.T_meas_tool.matrix() =
+            Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(targets.row(i).eval().data());
       } else {
         t.T_meas_tool.translation() = targets.row(i).transpose();
       }
@@ -152,13 +157,9 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
       if (seeds) t.seed = seeds->row(i).transpose();
       // A program, as `kincal compensate` runs it: each target from the commands of the one before,
       // unless from_q gives the pose the arm comes from.
-      if (from_q && from_q->row(i).allFinite()) {
-        t.previous_command = from_q->row(i).transpose();
-      } else if (i > 0) {
-        t.previous_command = results.back().q_command;
-      }
-      results.push_back(compensator->Compensate(t));
+      if (from_q && from_q->row(i).allFinite()) t.previous_command = from_q->row(i).transpose();
     }
+    results = CompensateProgram(*compensator, program);
   }
   Eigen::MatrixXd q_command(n, dof), q_actual(n, dof);
   Eigen::VectorXd position_error(n), orientation_error(n);
@@ -182,7 +183,8 @@ py::dict Compensate(const Robot& nominal, const Robot& identified, const Eigen::
     py::array_t<int64_t> e({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(dof)});
     auto a = e.mutable_unchecked<2>();
     for (long i = 0; i < n; ++i)
-      for (long j = 0; j < dof && j < static_cast<long>(results[i].encoders.size()); ++j) a(i, j) = results[i].encoders[j];
+      for (long j = 0; j < dof && j < static_cast<long>(results[i].encoders.size()); ++j)
+        a(i, j) = results[i].encoders[j];
     out["encoders"] = e;
   }
   out["status"] = status;
@@ -201,8 +203,16 @@ py::list Entries(const R& registry) {
     py::dict d;
     d["name"] = e.name;
     d["description"] = e.description;
-    d["available"] = e.available;
-    d["why_unavailable"] = e.why_unavailable;
+    py::list options;
+    for (const OptionDoc& o : e.options) {
+      py::dict option;
+      option["key"] = o.key;
+      option["type"] = o.type;
+      option["default"] = o.default_value;
+      option["doc"] = o.doc;
+      options.append(option);
+    }
+    d["options"] = options;
     list.append(d);
   }
   return list;
@@ -211,20 +221,21 @@ py::list Entries(const R& registry) {
 }  // namespace
 
 void BindMethods(py::module_& m) {
-  m.def("methods",
-        []() {
-          py::dict d;
-          d["models"] = ModelConventions();
-          d["estimators"] = Entries(Estimators());
-          d["compensators"] = Entries(Compensators());
-          return d;
-        },
-        "Every model convention, estimator and compensator (name, description, availability), as `kincal methods`.");
+  m.def(
+      "methods",
+      []() {
+        py::dict d;
+        d["models"] = ModelConventions();
+        d["estimators"] = Entries(Estimators());
+        d["compensators"] = Entries(Compensators());
+        return d;
+      },
+      "Every model convention, estimator and compensator (name, description, availability), as `kincal methods`.");
 
   m.def("simulate", &SimulateFrom, py::arg("nominal"), py::arg("truth"), py::kw_only(), py::arg("protocol") = "sweep",
-        py::arg("poses") = 100, py::arg("stops") = 20, py::arg("step") = 2.0 * M_PI / 180.0, py::arg("start") = py::none(),
-        py::arg("order") = std::vector<int>(), py::arg("noise") = 0.0, py::arg("noise_range") = 0.0,
-        py::arg("orientation") = false, py::arg("orientation_noise") = 0.0,
+        py::arg("poses") = 100, py::arg("stops") = 20, py::arg("step") = 2.0 * M_PI / 180.0,
+        py::arg("start") = py::none(), py::arg("order") = std::vector<int>(), py::arg("noise") = 0.0,
+        py::arg("noise_range") = 0.0, py::arg("orientation") = false, py::arg("orientation_noise") = 0.0,
         py::arg("markers") = std::vector<std::string>(), py::arg("seed") = 1,
         R"(A dataset the instrument would measure on `truth` commanded by `nominal` (robot/simulator.h).
 SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per m of distance. Same seed, same data.)");
@@ -235,61 +246,65 @@ SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per
 as a dict (for a pipeline, keyed by method name). Returns (identified robot, report dict): the last stage's
 report as `kincal identify --report` writes it (m, rad), with 'stages' for a pipeline and 'brief'.)");
 
-  m.def("predict",
-        [](const Robot& robot, const Dataset& data, const Robot* nominal) {
-          const Robot& controller = ControllerOr(nominal, robot);
-          data.Validate(robot.dof());
-          CheckMarkers(robot, data);
-          const std::vector<Eigen::Vector3d> p = PredictMarkers(controller, robot, data);
-          Eigen::MatrixXd out(p.size(), 3);
-          for (size_t i = 0; i < p.size(); ++i) out.row(i) = p[i].transpose();
-          return out;
-        },
-        py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
-        R"(Where `robot` puts each row's marker (N x 3, m), as `kincal predict`. `nominal`: the controller whose
+  m.def(
+      "predict",
+      [](const Robot& robot, const Dataset& data, const Robot* nominal) {
+        const Robot& controller = ControllerOr(nominal, robot);
+        data.Validate(robot.dof());
+        CheckMarkers(robot, data);
+        const std::vector<Eigen::Vector3d> p = PredictMarkers(controller, robot, data);
+        Eigen::MatrixXd out(p.size(), 3);
+        for (size_t i = 0; i < p.size(); ++i) out.row(i) = p[i].transpose();
+        return out;
+      },
+      py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
+      R"(Where `robot` puts each row's marker (N x 3, m), as `kincal predict`. `nominal`: the controller whose
 ratios turned commanded angles into motor counts (default: the robot itself).)");
 
-  m.def("evaluate",
-        [](const Robot& robot, const Dataset& data, const Robot* nominal) {
-          const Robot& controller = ControllerOr(nominal, robot);
-          data.Validate(robot.dof());
-          CheckMarkers(robot, data);
-          const PredictionErrors e = EvaluatePredictions(controller, robot, data);
-          py::dict d;
-          d["position"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.position.data(), e.position.size()));
-          d["orientation"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.orientation.data(), e.orientation.size()));
-          d["position_stats"] = Stats(e.position_stats);
-          d["orientation_stats"] = Stats(e.orientation_stats);
-          return d;
-        },
-        py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
-        "Errors of `robot` in predicting every row (m, rad) and their statistics (count, mean, rms, max, median).");
+  m.def(
+      "evaluate",
+      [](const Robot& robot, const Dataset& data, const Robot* nominal) {
+        const Robot& controller = ControllerOr(nominal, robot);
+        data.Validate(robot.dof());
+        CheckMarkers(robot, data);
+        const PredictionErrors e = EvaluatePredictions(controller, robot, data);
+        py::dict d;
+        d["position"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.position.data(), e.position.size()));
+        d["orientation"] =
+            Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.orientation.data(), e.orientation.size()));
+        d["position_stats"] = Stats(e.position_stats);
+        d["orientation_stats"] = Stats(e.orientation_stats);
+        return d;
+      },
+      py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
+      "Errors of `robot` in predicting every row (m, rad) and their statistics (count, mean, rms, max, median).");
 
   m.def("_compensate", &Compensate, py::arg("nominal"), py::arg("identified"), py::arg("targets"), py::arg("method"),
         py::arg("options"), py::arg("seeds"), py::arg("from_q"));
 
-  m.def("run_study",
-        [](const py::object& path, const py::object& out_path, int threads, const std::string& shard) {
-          const Study study = ReadStudyFile(FsPath(path));
-          const std::string out = FsPath(out_path);
-          StudyRunOptions options;
-          ParseShard(shard, &options.shard_index, &options.shard_count);
-          options.threads = threads;
-          StudyRunSummary s;
-          {
-            py::gil_scoped_release release;
-            s = RunStudy(study, out, options);
-          }
-          py::dict d;
-          d["items_total"] = s.items_total;
-          d["items_run"] = s.items_run;
-          d["threads"] = s.threads;
-          d["seconds"] = s.seconds;
-          d["report"] = options.shard_count == 1 ? py::object(py::str(out + "/report.md")) : py::object(py::none());
-          return d;
-        },
-        py::arg("study"), py::arg("out"), py::kw_only(), py::arg("threads") = 0, py::arg("shard") = "1/1",
-        "Runs a study file (as `kincal study`): results, plots and report.md in `out`. Returns a summary dict.");
+  m.def(
+      "run_study",
+      [](const py::object& path, const py::object& out_path, int threads, const std::string& shard) {
+        const Study study = ReadStudyFile(FsPath(path));
+        const std::string out = FsPath(out_path);
+        StudyRunOptions options;
+        ParseShard(shard, &options.shard_index, &options.shard_count);
+        options.threads = threads;
+        StudyRunSummary s;
+        {
+          py::gil_scoped_release release;
+          s = RunStudy(study, out, options);
+        }
+        py::dict d;
+        d["items_total"] = s.items_total;
+        d["items_run"] = s.items_run;
+        d["threads"] = s.threads;
+        d["seconds"] = s.seconds;
+        d["report"] = options.shard_count == 1 ? py::object(py::str(out + "/report.md")) : py::object(py::none());
+        return d;
+      },
+      py::arg("study"), py::arg("out"), py::kw_only(), py::arg("threads") = 0, py::arg("shard") = "1/1",
+      "Runs a study file (as `kincal study`): results, plots and report.md in `out`. Returns a summary dict.");
 
   // compensate: targets as N x 3 positions or N x 4 x 4 poses; numpy reshapes them for the C++ side.
   py::exec(R"(

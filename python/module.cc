@@ -1,4 +1,4 @@
-// The Python module `kincal` (issue 9): kincal's robots, datasets and methods with numpy arrays in and
+// The Python module `kincal`: kincal's robots, datasets and methods with numpy arrays in and
 // out, SI units (metres, radians). Bad input raises kincal.Error (a ValueError) with the one-line
 // message the command line prints.
 #include "python/bindings.h"

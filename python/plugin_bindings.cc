@@ -51,9 +51,9 @@ struct PyRef {
 
 nlohmann::json ToJson(const py::handle& object) {
   const py::object dumps = py::module_::import("json").attr("dumps");
-  return nlohmann::json::parse(dumps(object, py::arg("default") = py::cpp_function([](py::handle h) {
-                                       return py::str(h);
-                                     })).cast<std::string>());
+  return nlohmann::json::parse(
+      dumps(object, py::arg("default") = py::cpp_function([](py::handle h) { return py::str(h); }))
+          .cast<std::string>());
 }
 
 // Options as the factory sees them: a dict (empty when none), numbers and booleans as such, the rest text.
@@ -227,7 +227,8 @@ void BindPlugins(py::module_& m) {
   m.def(
       "register_estimator",
       [](const std::string& name, py::object factory, const std::string& description) {
-        if (!PyCallable_Check(factory.ptr())) throw std::invalid_argument("register_estimator: factory is not callable");
+        if (!PyCallable_Check(factory.ptr()))
+          throw std::invalid_argument("register_estimator: factory is not callable");
         RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
         registrar.AddEstimator(name, description.empty() ? "Python estimator" : description,
                                FactoryOf<Estimator, PythonEstimator>(name, std::move(factory)));
@@ -239,7 +240,8 @@ void BindPlugins(py::module_& m) {
   m.def(
       "register_compensator",
       [](const std::string& name, py::object factory, const std::string& description) {
-        if (!PyCallable_Check(factory.ptr())) throw std::invalid_argument("register_compensator: factory is not callable");
+        if (!PyCallable_Check(factory.ptr()))
+          throw std::invalid_argument("register_compensator: factory is not callable");
         RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
         registrar.AddCompensator(name, description.empty() ? "Python compensator" : description,
                                  FactoryOf<Compensator, PythonCompensator>(name, std::move(factory)));

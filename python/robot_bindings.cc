@@ -40,48 +40,57 @@ void BindRobot(py::module_& m) {
   py::class_<Robot> robot(m, "Robot", R"(A robot: geometry with named, maskable parameters, limits, markers,
 drives and joint level, as a robot file describes it. Everything in SI: metres and radians.)");
   robot
-      .def("fk", [](const Robot& r, const Eigen::VectorXd& q) { return Matrix(r.model().ForwardKinematics(CheckedJoints(r, q))); },
-           py::arg("q"), "T_meas_tool (4x4, metres) at actual joint angles q (radians; metres for prismatic joints).")
-      .def("frame_poses",
-           [](const Robot& r, const Eigen::VectorXd& q) {
-             const auto poses = r.model().FramePoses(CheckedJoints(r, q));
-             py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
-             auto a = out.mutable_unchecked<3>();
-             for (size_t k = 0; k < poses.size(); ++k)
-               for (int i = 0; i < 4; ++i)
-                 for (int j = 0; j < 4; ++j) a(k, i, j) = poses[k].matrix()(i, j);
-             return out;
-           },
-           py::arg("q"), "T_meas_frame_i for i = 0..n (0: the base), then T_meas_tool: an (n+2, 4, 4) array.")
-      .def("joint_jacobian",
-           [](const Robot& r, const Eigen::VectorXd& q, const Eigen::Vector3d& point) {
-             return Eigen::MatrixXd(r.model().JointJacobian(CheckedJoints(r, q), point));
-           },
-           py::arg("q"), py::arg("point") = Eigen::Vector3d::Zero(),
-           "6 x n geometric Jacobian: rows 0-2 d(position of `point`, tool frame, m)/dq, rows 3-5 the angular velocity.")
-      .def("parameter_jacobian",
-           [](const Robot& r, const Eigen::VectorXd& q, const Eigen::Vector3d& point) {
-             Matrix6Xd J;
-             r.model().ParameterJacobian(CheckedJoints(r, q), point, &J);
-             return Eigen::MatrixXd(J);
-           },
-           py::arg("q"), py::arg("point") = Eigen::Vector3d::Zero(),
-           "6 x p Jacobian with respect to every parameter (parameter_names order), same rows as joint_jacobian.")
-      .def("actual_angles",
-           [](const Robot& r, const Eigen::VectorXd& readings, std::optional<Eigen::VectorXd> previous,
-              const Robot* controller) {
-             const Robot& c = controller ? *controller : r;
-             if (previous) CheckedJoints(r, *previous, "previous");
-             return ActualFromReadings(c, r, CheckedJoints(r, readings, "readings"), previous ? &*previous : nullptr);
-           },
-           py::arg("readings"), py::arg("previous") = py::none(), py::arg("controller") = nullptr,
-           "Actual joint angles for the controller's readings (coupling, drive ratios, joint errors of the move from "
-           "`previous`), robot/joint_readings.h.")
+      .def(
+          "fk",
+          [](const Robot& r, const Eigen::VectorXd& q) {
+            return Matrix(r.model().ForwardKinematics(CheckedJoints(r, q)));
+          },
+          py::arg("q"), "T_meas_tool (4x4, metres) at actual joint angles q (radians; metres for prismatic joints).")
+      .def(
+          "frame_poses",
+          [](const Robot& r, const Eigen::VectorXd& q) {
+            const auto poses = r.model().FramePoses(CheckedJoints(r, q));
+            py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
+            auto a = out.mutable_unchecked<3>();
+            for (size_t k = 0; k < poses.size(); ++k)
+              for (int i = 0; i < 4; ++i)
+                for (int j = 0; j < 4; ++j) a(k, i, j) = poses[k].matrix()(i, j);
+            return out;
+          },
+          py::arg("q"), "T_meas_frame_i for i = 0..n (0: the base), then T_meas_tool: an (n+2, 4, 4) array.")
+      .def(
+          "joint_jacobian",
+          [](const Robot& r, const Eigen::VectorXd& q, const Eigen::Vector3d& point) {
+            return Eigen::MatrixXd(r.model().JointJacobian(CheckedJoints(r, q), point));
+          },
+          py::arg("q"), py::arg("point") = Eigen::Vector3d::Zero(),
+          "6 x n geometric Jacobian: rows 0-2 d(position of `point`, tool frame, m)/dq, rows 3-5 the angular velocity.")
+      .def(
+          "parameter_jacobian",
+          [](const Robot& r, const Eigen::VectorXd& q, const Eigen::Vector3d& point) {
+            Matrix6Xd J;
+            r.model().ParameterJacobian(CheckedJoints(r, q), point, &J);
+            return Eigen::MatrixXd(J);
+          },
+          py::arg("q"), py::arg("point") = Eigen::Vector3d::Zero(),
+          "6 x p Jacobian with respect to every parameter (parameter_names order), same rows as joint_jacobian.")
+      .def(
+          "actual_angles",
+          [](const Robot& r, const Eigen::VectorXd& readings, std::optional<Eigen::VectorXd> previous,
+             const Robot* controller) {
+            const Robot& c = controller ? *controller : r;
+            if (previous) CheckedJoints(r, *previous, "previous");
+            return ActualFromReadings(c, r, CheckedJoints(r, readings, "readings"), previous ? &*previous : nullptr);
+          },
+          py::arg("readings"), py::arg("previous") = py::none(), py::arg("controller") = nullptr,
+          "Actual joint angles for the controller's readings (coupling, drive ratios, joint errors of the move from "
+          "`previous`), robot/joint_readings.h.")
       .def_property_readonly("dof", &Robot::dof)
       .def_readwrite("name", &Robot::name)
       .def_property_readonly("convention", [](const Robot& r) { return r.model().convention(); })
-      .def_property_readonly("length_unit", [](const Robot& r) { return r.length_unit.name; },
-                             "The unit the robot file is written in (values here are SI).")
+      .def_property_readonly(
+          "length_unit", [](const Robot& r) { return r.length_unit.name; },
+          "The unit the robot file is written in (values here are SI).")
       .def_property_readonly("angle_unit", [](const Robot& r) { return r.angle_unit.name; })
       .def_property_readonly("parameter_names", [](const Robot& r) { return r.model().ParameterNames(); })
       .def_property_readonly("parameter_units",
@@ -112,12 +121,15 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
             r.model().SetFreeMask(mask);
           },
           "True for the parameters estimators may change.")
-      .def("parameter", [](const Robot& r, const std::string& name) { return r.model().Parameter(name); }, py::arg("name"))
-      .def("set_parameter",
-           [](Robot& r, const std::string& name, double value) { r.model().SetParameter(name, value); },
-           py::arg("name"), py::arg("value"))
-      .def("set_free", [](Robot& r, const std::string& name, bool free) { r.model().SetFree(name, free); },
-           py::arg("name"), py::arg("free") = true)
+      .def(
+          "parameter", [](const Robot& r, const std::string& name) { return r.model().Parameter(name); },
+          py::arg("name"))
+      .def(
+          "set_parameter", [](Robot& r, const std::string& name, double value) { r.model().SetParameter(name, value); },
+          py::arg("name"), py::arg("value"))
+      .def(
+          "set_free", [](Robot& r, const std::string& name, bool free) { r.model().SetFree(name, free); },
+          py::arg("name"), py::arg("free") = true)
       .def_property(
           "base", [](const Robot& r) { return Matrix(r.model().base()); },
           [](Robot& r, const Eigen::Matrix4d& T) { r.model().SetBase(Isometry(T, "base")); }, "T_meas_base, 4x4, m.")
@@ -135,7 +147,8 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
             CheckSize("limits (rows)", r.dof(), limits.rows());
             r.limits.clear();
             for (int i = 0; i < r.dof(); ++i) {
-              if (!(limits(i, 0) < limits(i, 1))) throw std::invalid_argument("limits: expected min < max for every joint");
+              if (!(limits(i, 0) < limits(i, 1)))
+                throw std::invalid_argument("limits: expected min < max for every joint");
               r.limits.emplace_back(limits(i, 0), limits(i, 1));
             }
           },
@@ -145,16 +158,20 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
           [](Robot& r, const std::map<std::string, Eigen::Vector3d>& markers) { r.markers = markers; },
           "Marker positions in the tool frame, m, by id (a copy: assign the whole dict to change it).")
       .def("to_yaml", &RobotToYaml, "The robot file's text (the robot's units; every digit kept).")
-      .def("save", [](const Robot& r, const py::object& path) { WriteRobotFile(r, FsPath(path)); }, py::arg("path"),
-           "Writes the robot file atomically.")
+      .def(
+          "save", [](const Robot& r, const py::object& path) { WriteRobotFile(r, FsPath(path)); }, py::arg("path"),
+          "Writes the robot file atomically.")
       .def("copy", [](const Robot& r) { return Robot(r); })
       .def("__copy__", [](const Robot& r) { return Robot(r); })
-      .def("__deepcopy__", [](const Robot& r, py::dict) { return Robot(r); }, py::arg("memo"))
+      .def(
+          "__deepcopy__", [](const Robot& r, py::dict) { return Robot(r); }, py::arg("memo"))
       .def("__repr__", [](const Robot& r) {
         return "<kincal.Robot '" + r.name + "' " + r.model().convention() + ", " + std::to_string(r.dof()) + " joints>";
       });
 
-  m.def("load_robot", [](const py::object& path) { return ReadRobotFile(FsPath(path)); }, py::arg("path"), "Reads a robot file (YAML); kincal.Error on bad input.");
+  m.def(
+      "load_robot", [](const py::object& path) { return ReadRobotFile(FsPath(path)); }, py::arg("path"),
+      "Reads a robot file (YAML); kincal.Error on bad input.");
   m.def("parse_robot", &ParseRobotYaml, py::arg("text"), py::arg("source") = "<string>",
         "A robot from the text of a robot file; `source` names it in messages.");
 }

@@ -288,7 +288,7 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
         e *= e1;
         const std::complex<double> fe = f[m] * e;
         value += 2.0 * fe.real();
-        *slope -= 2.0 * m * fe.imag();       // 2 Re(i m f_m e^{imc})
+        *slope -= 2.0 * m * fe.imag();          // 2 Re(i m f_m e^{imc})
         *curvature -= 2.0 * m * m * fe.real();  // 2 Re(-m^2 f_m e^{imc})
       }
       return value;
@@ -341,10 +341,10 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
     //     kAB wB.U1 cos c + kAB wB.U2 sin c + kAB wB.U0 + wA.d - h = 0.
     double x[2];
     bool all = false;
-    const int count = parallel ? circle(kAB * B.w.dot(U1), kAB * B.w.dot(U2), kAB * B.w.dot(U0) + A.w.dot(d) - h,
-                                        length, x, &all)
-                               : circle(2 * U0.dot(U1), 2 * U0.dot(U2), U1.squaredNorm() + U0.squaredNorm() - rho,
-                                        length * length, x, &all);
+    const int count =
+        parallel ? circle(kAB * B.w.dot(U1), kAB * B.w.dot(U2), kAB * B.w.dot(U0) + A.w.dot(d) - h, length, x, &all)
+                 : circle(2 * U0.dot(U1), 2 * U0.dot(U2), U1.squaredNorm() + U0.squaredNorm() - rho, length * length, x,
+                          &all);
     if (all) free_c();
     for (int i = 0; i < count; ++i) push_root(x[i]);
     // The other equation gives b: the one used for c has lost it (to within the rounding, or the small

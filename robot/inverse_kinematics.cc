@@ -143,7 +143,8 @@ InverseKinematicsResult SolveInverseKinematics(const Robot& robot, const Eigen::
       d.cost = e.cost;
       d.position_error = e.position_error;
       d.orientation_error = e.orientation_error;
-      d.converged = d.position_error < options.position_tolerance && d.orientation_error < options.orientation_tolerance;
+      d.converged =
+          d.position_error < options.position_tolerance && d.orientation_error < options.orientation_tolerance;
     }
     // Preference: converged inside the limits, then converged outside, then the least cost.
     const bool better = d.converged ? (!result.converged || (inside && !result.within_limits))

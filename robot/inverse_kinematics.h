@@ -23,13 +23,13 @@
 namespace kincal {
 
 struct InverseKinematicsOptions {
-  int max_iterations = 100;          // per start, at most
-  int stall_iterations = 12;         // a start ends when its cost has not halved in this many iterations
-  int restarts = 100;                // further starts after the first (only while none converged)
-  double position_tolerance = 1e-10; // m
+  int max_iterations = 100;              // per start, at most
+  int stall_iterations = 12;             // a start ends when its cost has not halved in this many iterations
+  int restarts = 100;                    // further starts after the first (only while none converged)
+  double position_tolerance = 1e-10;     // m
   double orientation_tolerance = 1e-10;  // rad
-  double damping = 1e-6;             // initial damping, relative to the largest diagonal entry of J^T J
-  double length_scale = 1.0;         // m per rad: weight of rotation against position
+  double damping = 1e-6;                 // initial damping, relative to the largest diagonal entry of J^T J
+  double length_scale = 1.0;             // m per rad: weight of rotation against position
   uint64_t seed = 1;
   bool IsValid(std::string* why) const;
 };
@@ -38,7 +38,7 @@ struct InverseKinematicsResult {
   Eigen::VectorXd q;
   bool converged = false;
   bool within_limits = false;
-  int iterations = 0;      // over all starts
+  int iterations = 0;  // over all starts
   int starts = 0;
   double position_error = NAN;
   double orientation_error = NAN;

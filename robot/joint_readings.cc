@@ -13,7 +13,8 @@ Eigen::VectorXd DriveAngles(const Robot& controller, const Robot& robot, const E
   const bool ratios = robot.drives && controller.drives;
   if (!encoders.empty() && robot.drives) {
     Eigen::VectorXd counts(static_cast<Eigen::Index>(encoders.size()));
-    for (size_t i = 0; i < encoders.size(); ++i) counts[static_cast<Eigen::Index>(i)] = static_cast<double>(encoders[i]);
+    for (size_t i = 0; i < encoders.size(); ++i)
+      counts[static_cast<Eigen::Index>(i)] = static_cast<double>(encoders[i]);
     const Eigen::VectorXd q_motor = robot.drives->AnglesFromCounts(counts);  // = D r, uncoupled
     if (!coupled) return q_motor;
     if (!ratios) return robot.coupling * q_motor;
@@ -37,29 +38,43 @@ JointErrorContext JointErrorContextOf(const Robot& robot) {
   return c;
 }
 
-Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar, const Eigen::VectorXd* qbar_previous) {
-  if (robot.joint_errors.empty()) return qbar;
-  const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
-  return qbar + JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+JointCorrection::~JointCorrection() = default;
+
+const JointCorrection* JointCorrectionOf(const Robot& robot) {
+  return dynamic_cast<const JointCorrection*>(&robot.model());
+}
+
+Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar,
+                                 const Eigen::VectorXd* qbar_previous) {
+  Eigen::VectorXd q = qbar;
+  if (!robot.joint_errors.empty()) {
+    const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
+    q += JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+  }
+  if (const JointCorrection* correction = JointCorrectionOf(robot))
+    q += correction->Offset(robot, q, qbar, qbar_previous);
+  return q;
 }
 
 Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, const Dataset& data, size_t row,
                                   const std::vector<Dataset::Previous>& previous) {
   const Measurement& m = data.rows[row];
   const Eigen::VectorXd qbar = DriveAngles(controller, robot, m);
-  if (robot.joint_errors.empty()) return qbar;
+  if (robot.joint_errors.empty() && !JointCorrectionOf(robot)) return qbar;
   const Dataset::Previous& p = previous[row];
   const Eigen::VectorXd* q_prev = data.PreviousQ(p);
   if (!q_prev) return ApplyJointErrors(robot, qbar, nullptr);
   const std::vector<int64_t>* enc_prev = data.PreviousEncoders(p);
-  const Eigen::VectorXd qbar_prev = DriveAngles(controller, robot, *q_prev, enc_prev ? *enc_prev : std::vector<int64_t>{});
+  const Eigen::VectorXd qbar_prev =
+      DriveAngles(controller, robot, *q_prev, enc_prev ? *enc_prev : std::vector<int64_t>{});
   return ApplyJointErrors(robot, qbar, &qbar_prev);
 }
 
 Eigen::VectorXd ActualFromReadings(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
                                    const Eigen::VectorXd* readings_previous, const std::vector<int64_t>& encoders) {
   const Eigen::VectorXd qbar = DriveAngles(controller, robot, readings, encoders);
-  if (robot.joint_errors.empty() || !readings_previous) return ApplyJointErrors(robot, qbar, nullptr);
+  if ((robot.joint_errors.empty() && !JointCorrectionOf(robot)) || !readings_previous)
+    return ApplyJointErrors(robot, qbar, nullptr);
   const Eigen::VectorXd qbar_prev = DriveAngles(controller, robot, *readings_previous);
   return ApplyJointErrors(robot, qbar, &qbar_prev);
 }
@@ -78,7 +93,10 @@ Eigen::VectorXd InvertJointErrors(const Robot& robot, const Eigen::VectorXd& q_a
   Eigen::VectorXd best_qbar = qbar;
   for (int iteration = 0; iteration < 30; ++iteration) {
     EvaluateJointErrorMap(robot.joint_errors, context, qbar, qbar_prev, {true, false, false}, &map);
-    const Eigen::VectorXd f = map.q - q_actual;
+    // The correction enters through its value only (a fixed point: it is small and slowly varying).
+    Eigen::VectorXd f = map.q - q_actual;
+    if (const JointCorrection* correction = JointCorrectionOf(robot))
+      f += correction->Offset(robot, map.q, qbar, qbar_prev);
     const double norm = f.cwiseAbs().maxCoeff();
     if (norm < best) best = norm, best_qbar = qbar;
     if (norm <= 1e-15 * (1.0 + q_actual.cwiseAbs().maxCoeff())) break;
@@ -94,7 +112,7 @@ Eigen::VectorXd ReadingsFromActual(const Robot& controller, const Robot& robot, 
                                    const Eigen::VectorXd* readings_previous, double* residual) {
   Eigen::VectorXd qbar = q_actual;
   if (residual) *residual = 0.0;
-  if (!robot.joint_errors.empty()) {
+  if (!robot.joint_errors.empty() || JointCorrectionOf(robot)) {
     Eigen::VectorXd qbar_prev;
     if (readings_previous) qbar_prev = DriveAngles(controller, robot, *readings_previous);
     qbar = InvertJointErrors(robot, q_actual, readings_previous ? &qbar_prev : nullptr, residual);

@@ -1,6 +1,6 @@
 #pragma once
 // From a controller's joint readings to a robot's actual joint angles, and back (DESIGN.md, file contract
-// v1 additions; issue 11). Three stages, in this order:
+// v1 additions). Three stages, in this order:
 //
 //   r      the readings: a row's joint values (q1_deg..: commanded, or read back from the controller),
 //          or, when the row has encoder counts and the robot has drives, the counts read as angles with
@@ -23,6 +23,22 @@
 
 namespace kincal {
 
+// A joint-level correction that a robot's model may carry (a model class that also derives from this
+// interface; robot files do not hold it): applied after the joint errors, q = q_errors + Offset(robot,
+// q_errors, qbar, qbar_prev), q_errors = qbar + dq(qbar, qbar_prev). It sees what the joint errors see, the
+// readings and the move that led to them (approach, backlash), and the robot (its model, to map a Cartesian
+// quantity to joints): a learned residual on those features lives here (examples/plugins/learned_residual).
+// It must be small and slowly varying: the readings' inverse (ReadingsFromActual) treats it as a fixed
+// point. Offset returns n joint offsets (rad; m for prismatic joints); qbar_previous null: none.
+class JointCorrection {
+ public:
+  virtual ~JointCorrection();
+  virtual Eigen::VectorXd Offset(const Robot& robot, const Eigen::VectorXd& q_errors, const Eigen::VectorXd& qbar,
+                                 const Eigen::VectorXd* qbar_previous) const = 0;
+};
+// The robot's model as a JointCorrection, or null.
+const JointCorrection* JointCorrectionOf(const Robot& robot);
+
 // qbar from readings (encoders empty: the joint values are the readings).
 Eigen::VectorXd DriveAngles(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
                             const std::vector<int64_t>& encoders = {});
@@ -41,8 +57,7 @@ Eigen::VectorXd ActualJointAngles(const Robot& controller, const Robot& robot, c
 // Actual joint angles for readings (and encoder counts, if given) that follow `readings_previous`
 // (commanded angles; null: the first pose).
 Eigen::VectorXd ActualFromReadings(const Robot& controller, const Robot& robot, const Eigen::VectorXd& readings,
-                                   const Eigen::VectorXd* readings_previous,
-                                   const std::vector<int64_t>& encoders = {});
+                                   const Eigen::VectorXd* readings_previous, const std::vector<int64_t>& encoders = {});
 
 // The inverse, for compensation: the readings (commands) that put `robot`'s joints at q_actual when
 // the arm comes from `readings_previous` (null: no previous pose). Joint errors are inverted by Newton's

@@ -1,3 +1,6 @@
+// Over 600 lines on purpose: one class's implementation (NominalInverseKinematics::Impl), whose detection
+// of the closed form, branch solvers, polishing and choice of branch share its private state and are read
+// together; the geometric subproblems it calls live in ik_geometry.cc.
 #include "robot/nominal_ik.h"
 
 #include <algorithm>
@@ -19,10 +22,14 @@ namespace kincal {
 
 std::string ToString(IkStatus status) {
   switch (status) {
-    case IkStatus::kSolved: return "solved";
-    case IkStatus::kOutOfLimits: return "out_of_limits";
-    case IkStatus::kUnreachable: return "unreachable";
-    case IkStatus::kSingular: return "singular";
+    case IkStatus::kSolved:
+      return "solved";
+    case IkStatus::kOutOfLimits:
+      return "out_of_limits";
+    case IkStatus::kUnreachable:
+      return "unreachable";
+    case IkStatus::kSingular:
+      return "singular";
   }
   return "unknown";
 }
@@ -60,11 +67,11 @@ struct NominalInverseKinematics::Impl {
   NominalIkOptions options;
   int n = 0;
   Kind kind = Kind::kNumeric;
-  int first = 0;          // first joint (0-based, in the solved chain) of the triple
-  bool reversed = false;  // the chain is solved backwards (T^-1, joints in reverse order)
-  std::vector<Screw> screws;  // of the solved chain
+  int first = 0;                           // first joint (0-based, in the solved chain) of the triple
+  bool reversed = false;                   // the chain is solved backwards (T^-1, joints in reverse order)
+  std::vector<Screw> screws;               // of the solved chain
   Isometry3d T0 = Isometry3d::Identity();  // of the solved chain
-  Vector3d center = Vector3d::Zero();  // Pieper: where the triple meets; parallel: where the pair meets
+  Vector3d center = Vector3d::Zero();      // Pieper: where the triple meets; parallel: where the pair meets
   VectorXd middle;
 
   void Detect();
@@ -435,9 +442,12 @@ std::string NominalInverseKinematics::method() const {
   const int a = impl_->reversed ? impl_->n - impl_->first - 2 : impl_->first + 1;
   const std::string joints = std::to_string(a) + "," + std::to_string(a + 1) + "," + std::to_string(a + 2) + ")";
   switch (impl_->kind) {
-    case Impl::Kind::kPieper: return "pieper(" + joints;
-    case Impl::Kind::kParallel: return "parallel(" + joints;
-    case Impl::Kind::kNumeric: break;
+    case Impl::Kind::kPieper:
+      return "pieper(" + joints;
+    case Impl::Kind::kParallel:
+      return "parallel(" + joints;
+    case Impl::Kind::kNumeric:
+      break;
   }
   return "numeric";
 }
@@ -572,7 +582,8 @@ std::vector<IkSolution> NominalInverseKinematics::AllBranches(const Isometry3d& 
     s.branch = b;
     s.closed_form = true;
     m.Polish(T, &s.q, &s.position_error, &s.orientation_error);
-    if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance)) continue;
+    if (!(s.position_error <= m.options.position_tolerance && s.orientation_error <= m.options.orientation_tolerance))
+      continue;
     const bool inside = m.WrapIntoLimits(ref, s.q);
     s.status = !inside ? IkStatus::kOutOfLimits : m.Singular(s.q) ? IkStatus::kSingular : IkStatus::kSolved;
     bool duplicate = false;

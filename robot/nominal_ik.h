@@ -62,8 +62,8 @@ struct IkSolution {
 };
 
 struct NominalIkOptions {
-  double position_tolerance = 1e-9;      // m: a pose closer than this is reached
-  double orientation_tolerance = 1e-9;   // rad
+  double position_tolerance = 1e-9;     // m: a pose closer than this is reached
+  double orientation_tolerance = 1e-9;  // rad
   // Geometry detection: axes within this distance (m) of a common point meet; directions whose cross
   // product is below `direction_tolerance` are parallel.
   double distance_tolerance = 1e-9;
@@ -75,7 +75,7 @@ struct NominalIkOptions {
   // that match are preferred (after the joint limits); empty: no preference. Among the preferred, the
   // branch closest to the reference (the previous target's solution, else the middle of the limits).
   std::vector<int> configuration;
-  bool use_closed_form = true;  // false: always numeric (for tests and comparisons)
+  bool use_closed_form = true;       // false: always numeric (for tests and comparisons)
   InverseKinematicsOptions numeric;  // the fallback, also for position-only targets
   bool IsValid(std::string* why) const;
 };

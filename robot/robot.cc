@@ -69,7 +69,8 @@ void Robot::ValidateJointLevel() const {
   const int n = dof();
   if (coupling.size() != 0) {
     if (coupling.rows() != n || coupling.cols() != n) {
-      throw std::invalid_argument("coupling: expected " + std::to_string(n) + " rows of " + std::to_string(n) + " numbers");
+      throw std::invalid_argument("coupling: expected " + std::to_string(n) + " rows of " + std::to_string(n) +
+                                  " numbers");
     }
     if (!coupling.allFinite()) throw std::invalid_argument("coupling: expected finite numbers");
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(coupling);
@@ -79,7 +80,8 @@ void Robot::ValidateJointLevel() const {
     }
   }
   if (velocity_limits.size() != 0) {
-    if (velocity_limits.size() != n) throw std::invalid_argument("velocity_limits: expected " + std::to_string(n) + " numbers");
+    if (velocity_limits.size() != n)
+      throw std::invalid_argument("velocity_limits: expected " + std::to_string(n) + " numbers");
     for (int i = 0; i < n; ++i) {
       if (!(velocity_limits[i] > 0.0) || !std::isfinite(velocity_limits[i])) {
         throw std::invalid_argument("velocity_limits: expected positive finite numbers");

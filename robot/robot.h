@@ -38,7 +38,7 @@ class Robot {
   std::map<std::string, Eigen::Vector3d> markers;
   // T_meas_base per session id (the dataset's `session` column), when the instrument was moved.
   std::map<int, Eigen::Isometry3d> session_bases;
-  // Joint level (issue 11; robot/joint_readings.h applies them, in this order):
+  // Joint level (robot/joint_readings.h applies them, in this order):
   // actual angles = coupling x readings (row i: joint i as a combination of the controller's readings),
   // n x n, empty = identity; then the drives' ratio corrections; then the joint errors.
   Eigen::MatrixXd coupling;

@@ -34,36 +34,28 @@ void SetPoseParameters(const Reader& r, const YAML::Node& node, const std::strin
   }
 }
 
-}  // namespace
-
-Robot ParseRobotYaml(const std::string& text, const std::string& source) {
-  Reader r(source);
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    ThrowInputError(source, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
-  }
-  if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
-  r.CheckKeys(root, {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
-                     "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
-              "the robot file");
-
+// The file's units (required): lengths and angles of every value in it.
+std::pair<Unit, Unit> ReadUnits(const Reader& r, const YAML::Node& root, const std::string& source) {
   Unit length = LengthUnit("mm"), angle = AngleUnit("deg");
-  if (root["units"]) {
-    const YAML::Node units = root["units"];
-    r.ExpectMap(units, "units");
-    r.CheckKeys(units, {"length", "angle"}, "units");
-    try {
-      if (units["length"]) length = LengthUnit(r.String(units["length"], "units.length"));
-      if (units["angle"]) angle = AngleUnit(r.String(units["angle"], "units.angle"));
-    } catch (const std::invalid_argument& e) {
-      r.Fail(units, e.what());
-    }
-  } else {
-    ThrowInputError(source, 1, 1, "missing key 'units' (e.g. units: {length: mm, angle: deg})");
+  if (!root["units"]) ThrowInputError(source, 1, 1, "missing key 'units' (e.g. units: {length: mm, angle: deg})");
+  const YAML::Node units = root["units"];
+  r.ExpectMap(units, "units");
+  r.CheckKeys(units, {"length", "angle"}, "units");
+  try {
+    if (units["length"]) length = LengthUnit(r.String(units["length"], "units.length"));
+    if (units["angle"]) angle = AngleUnit(r.String(units["angle"], "units.angle"));
+  } catch (const std::invalid_argument& e) {
+    r.Fail(units, e.what());
   }
-  if (!root["convention"]) ThrowInputError(source, 1, 1, "missing key 'convention' (mdh, dh, hayati or poe)");
+  return {length, angle};
+}
+
+// The model of `convention` with the joints' rows, base and tool.
+std::unique_ptr<KinematicModel> ReadModel(const Reader& r, const YAML::Node& root, const std::string& source,
+                                          const Unit& length, const Unit& angle) {
+  if (!root["convention"]) {
+    ThrowInputError(source, 1, 1, "missing key 'convention' (mdh, dh, hayati, poe or urdf)");
+  }
   if (!root["joints"]) ThrowInputError(source, 1, 1, "missing key 'joints'");
   const std::string convention = r.String(root["convention"], "convention");
   const YAML::Node joints = root["joints"];
@@ -75,8 +67,10 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     JointType type = JointType::kRevolute;
     if (row["type"]) {
       const std::string t = r.String(row["type"], "type");
-      if (t == "prismatic") type = JointType::kPrismatic;
-      else if (t != "revolute") r.Fail(row["type"], "expected type revolute or prismatic, got '" + t + "'");
+      if (t == "prismatic")
+        type = JointType::kPrismatic;
+      else if (t != "revolute")
+        r.Fail(row["type"], "expected type revolute or prismatic, got '" + t + "'");
     }
     types.push_back(type);
   }
@@ -95,8 +89,8 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     for (const auto& key : keys) {
       // Hayati's beta and a POE row's theta default to 0 (an MDH table reads as a Hayati model unchanged).
       // A URDF row's offset (no URDF field) defaults to 0 as well.
-      if (!row[key] && (key == "beta" || (convention == "poe" && key == "theta") ||
-                        (convention == "urdf" && key == "offset"))) {
+      if (!row[key] &&
+          (key == "beta" || (convention == "poe" && key == "theta") || (convention == "urdf" && key == "offset"))) {
         continue;
       }
       if (!row[key]) r.Fail(row, "joint row " + std::to_string(i + 1) + " lacks '" + key + "'");
@@ -108,33 +102,35 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   }
   if (root["base"]) SetPoseParameters(r, root["base"], "base", length, angle, model.get());
   if (root["tool"]) SetPoseParameters(r, root["tool"], "tool", length, angle, model.get());
+  return model;
+}
 
-  const int n = model->dof();
-  Robot robot(root["name"] ? r.String(root["name"], "name") : std::string("robot"), std::move(model));
-  robot.length_unit = length;
-  robot.angle_unit = angle;
-
-  if (root["drives"]) {
-    const YAML::Node d = root["drives"];
-    r.ExpectMap(d, "drives");
-    r.CheckKeys(d, {"ratio", "counts_per_rev", "encoder_zero"}, "drives");
-    if (!d["ratio"]) r.Fail(d, "drives lacks 'ratio'");
-    if (!d["counts_per_rev"]) r.Fail(d, "drives lacks 'counts_per_rev'");
-    DriveModel drives;
-    const auto to_vector = [](const std::vector<double>& v) {
-      return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())).eval();
-    };
-    drives.ratio = to_vector(r.Numbers(d["ratio"], "drives.ratio", n));
-    drives.counts_per_rev = to_vector(r.Numbers(d["counts_per_rev"], "drives.counts_per_rev", n));
-    drives.encoder_zero = d["encoder_zero"] ? to_vector(r.Numbers(d["encoder_zero"], "drives.encoder_zero", n))
-                                            : Eigen::VectorXd::Zero(n);
-    try {
-      drives.Validate(n);
-    } catch (const std::invalid_argument& e) {
-      r.Fail(d, e.what());
-    }
-    robot.drives = drives;
+DriveModel ReadDrives(const Reader& r, const YAML::Node& d, int n) {
+  r.ExpectMap(d, "drives");
+  r.CheckKeys(d, {"ratio", "counts_per_rev", "encoder_zero"}, "drives");
+  if (!d["ratio"]) r.Fail(d, "drives lacks 'ratio'");
+  if (!d["counts_per_rev"]) r.Fail(d, "drives lacks 'counts_per_rev'");
+  DriveModel drives;
+  const auto to_vector = [](const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())).eval();
+  };
+  drives.ratio = to_vector(r.Numbers(d["ratio"], "drives.ratio", n));
+  drives.counts_per_rev = to_vector(r.Numbers(d["counts_per_rev"], "drives.counts_per_rev", n));
+  drives.encoder_zero =
+      d["encoder_zero"] ? to_vector(r.Numbers(d["encoder_zero"], "drives.encoder_zero", n)) : Eigen::VectorXd::Zero(n);
+  try {
+    drives.Validate(n);
+  } catch (const std::invalid_argument& e) {
+    r.Fail(d, e.what());
   }
+  return drives;
+}
+
+// limits, markers, sessions and urdf, each optional.
+void ReadLimitsMarkersSessions(const Reader& r, const YAML::Node& root, Robot* robot) {
+  const int n = robot->dof();
+  const Unit& length = robot->length_unit;
+  const Unit& angle = robot->angle_unit;
   if (root["limits"]) {
     const YAML::Node l = root["limits"];
     if (!l.IsSequence() || static_cast<int>(l.size()) != n) {
@@ -142,9 +138,9 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     }
     for (int i = 0; i < n; ++i) {
       const auto v = r.Numbers(l[i], "limits of joint " + std::to_string(i + 1), 2);
-      const double scale = robot.model().joint_type(i) == JointType::kRevolute ? angle.to_si : length.to_si;
+      const double scale = robot->model().joint_type(i) == JointType::kRevolute ? angle.to_si : length.to_si;
       if (!(v[0] < v[1])) r.Fail(l[i], "expected min < max for the limits of joint " + std::to_string(i + 1));
-      robot.limits.emplace_back(v[0] * scale, v[1] * scale);
+      robot->limits.emplace_back(v[0] * scale, v[1] * scale);
     }
   }
   if (root["markers"]) {
@@ -152,7 +148,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     r.ExpectMap(m, "markers");
     for (const auto& kv : m) {
       const auto v = r.Numbers(kv.second, "marker " + kv.first.Scalar(), 3);
-      robot.markers[kv.first.Scalar()] = Eigen::Vector3d(v[0], v[1], v[2]) * length.to_si;
+      robot->markers[kv.first.Scalar()] = Eigen::Vector3d(v[0], v[1], v[2]) * length.to_si;
     }
   }
   if (root["sessions"]) {
@@ -161,24 +157,50 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
     for (const auto& kv : s) {
       const double id = r.Number(kv.first, "a session id");
       if (id != static_cast<int>(id)) r.Fail(kv.first, "expected an integer session id");
-      robot.session_bases[static_cast<int>(id)] = r.Pose(kv.second, "session " + kv.first.Scalar(), length, angle);
+      robot->session_bases[static_cast<int>(id)] = r.Pose(kv.second, "session " + kv.first.Scalar(), length, angle);
     }
   }
-  if (root["urdf"]) {
-    const YAML::Node u = root["urdf"];
-    r.ExpectMap(u, "urdf");
-    r.CheckKeys(u, {"source", "base", "tip", "joints"}, "urdf");
-    for (const char* key : {"source", "base", "tip", "joints"}) {
-      if (!u[key]) r.Fail(u, std::string("urdf lacks '") + key + "'");
-    }
-    Robot::UrdfSource source{r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"),
-                             r.String(u["tip"], "urdf.tip"), {}};
-    if (!u["joints"].IsSequence() || static_cast<int>(u["joints"].size()) != n) {
-      r.Fail(u["joints"], "expected urdf.joints to name the " + std::to_string(n) + " moving joints");
-    }
-    for (const auto& j : u["joints"]) source.joints.push_back(r.String(j, "a urdf joint name"));
-    robot.urdf = source;
+}
+
+Robot::UrdfSource ReadUrdfSource(const Reader& r, const YAML::Node& u, int n) {
+  r.ExpectMap(u, "urdf");
+  r.CheckKeys(u, {"source", "base", "tip", "joints"}, "urdf");
+  for (const char* key : {"source", "base", "tip", "joints"}) {
+    if (!u[key]) r.Fail(u, std::string("urdf lacks '") + key + "'");
   }
+  Robot::UrdfSource source{
+      r.String(u["source"], "urdf.source"), r.String(u["base"], "urdf.base"), r.String(u["tip"], "urdf.tip"), {}};
+  if (!u["joints"].IsSequence() || static_cast<int>(u["joints"].size()) != n) {
+    r.Fail(u["joints"], "expected urdf.joints to name the " + std::to_string(n) + " moving joints");
+  }
+  for (const auto& j : u["joints"]) source.joints.push_back(r.String(j, "a urdf joint name"));
+  return source;
+}
+
+}  // namespace
+
+Robot ParseRobotYaml(const std::string& text, const std::string& source) {
+  Reader r(source);
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    ThrowInputError(source, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
+  }
+  if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
+  r.CheckKeys(root,
+              {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
+               "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
+              "the robot file");
+  const auto [length, angle] = ReadUnits(r, root, source);
+  std::unique_ptr<KinematicModel> model = ReadModel(r, root, source, length, angle);
+  const int n = model->dof();
+  Robot robot(root["name"] ? r.String(root["name"], "name") : std::string("robot"), std::move(model));
+  robot.length_unit = length;
+  robot.angle_unit = angle;
+  if (root["drives"]) robot.drives = ReadDrives(r, root["drives"], n);
+  ReadLimitsMarkersSessions(r, root, &robot);
+  if (root["urdf"]) robot.urdf = ReadUrdfSource(r, root["urdf"], n);
   robot_file::ReadJointLevel(r, root, &robot);
   return robot;
 }
@@ -287,7 +309,8 @@ std::string RobotToYaml(const Robot& robot) {
   if (!robot.markers.empty()) {
     out << "markers:\n";
     for (const auto& [id, p] : robot.markers) {
-      out << "  " << YamlString(id) << ": " << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
+      out << "  " << YamlString(id) << ": "
+          << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
   }
   if (robot.urdf) {

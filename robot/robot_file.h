@@ -2,16 +2,21 @@
 // Robot files (YAML), DESIGN.md "File contracts (v1)":
 //
 //   name: paper6
-//   convention: mdh                 # mdh | dh
+//   convention: mdh                 # mdh | dh | hayati | poe | urdf (models/model_factory.h)
 //   units: {length: mm, angle: deg}
-//   joints:                         # mdh row i: alpha, a (about/along x_{i-1}), theta offset, d
-//     - {alpha: 0, a: 0, theta: 0, d: 0}          # optional `type: prismatic`
+//   joints:                         # the convention's row keys (KinematicModel::RowKeys): mdh row i:
+//     - {alpha: 0, a: 0, theta: 0, d: 0}          # alpha, a (about/along x_{i-1}), theta offset, d;
+//                                   # hayati adds beta; poe: x, y, z, roll, pitch, yaw, theta; optional
+//                                   # `type: prismatic`
 //   drives: {ratio: [...], counts_per_rev: [...], encoder_zero: [...]}   # optional; encoder_zero optional
 //   limits: [[min, max], ...]       # optional, angle unit; default +-90 deg
 //   base: {xyz: [0, 0, 0], rpy: [0, 0, 0]}      # T_meas_base (default identity)
 //   tool: {xyz: [0, 0, 0], rpy: [0, 0, 0]}      # T_n_tool (default identity)
 //   markers: {SMR1: [x, y, z]}      # optional, marker positions in the tool frame
 //   sessions: {2: {xyz: [...], rpy: [...]}}     # optional, T_meas_base of each session
+//   velocity_limits, coupling, gravity, joint_errors   # optional joint-level terms (robot.h,
+//                                                      # models/joint_errors.h)
+//   urdf: {source, base, tip, joints}                 # optional, where an imported robot came from
 //
 // Values are converted to SI on reading and back on writing; writing keeps every digit, so
 // read -> write gives the same numbers and read -> write -> read the same bits.

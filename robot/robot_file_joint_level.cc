@@ -1,4 +1,4 @@
-// Robot-file keys of the joint level (DESIGN.md "File contracts (v1)", issue 11):
+// Robot-file keys of the joint level (DESIGN.md "File contracts (v1)"):
 //
 //   velocity_limits: [250, 250, 250, 320, 320, 420]   # angle unit per second (length unit for prismatic)
 //   coupling: [[1, 0, 0], [0, 1, 0], [0, 1, 1]]       # actual joints = C x readings
@@ -21,9 +21,12 @@ namespace {
 
 Unit CoefficientUnit(JointErrorTerm::Type type, const std::string& key, const Unit& length, const Unit& angle) {
   switch (JointErrorTerm::KindOf(type, key)) {
-    case JointErrorTerm::CoefficientKind::kTime: return {"s", 1.0};
-    case JointErrorTerm::CoefficientKind::kAnglePerLength: return {angle.name + "/" + length.name, angle.to_si / length.to_si};
-    case JointErrorTerm::CoefficientKind::kAngle: break;
+    case JointErrorTerm::CoefficientKind::kTime:
+      return {"s", 1.0};
+    case JointErrorTerm::CoefficientKind::kAnglePerLength:
+      return {angle.name + "/" + length.name, angle.to_si / length.to_si};
+    case JointErrorTerm::CoefficientKind::kAngle:
+      break;
   }
   return angle;
 }
@@ -36,7 +39,8 @@ std::string List(const std::vector<std::string>& items) {
 
 int WholeNumber(const Reader& r, const YAML::Node& node, const std::string& what) {
   const double v = r.Number(node, what);
-  if (v != static_cast<double>(static_cast<long long>(v)) || std::abs(v) > 1e6) r.Fail(node, "expected a whole number for " + what);
+  if (v != static_cast<double>(static_cast<long long>(v)) || std::abs(v) > 1e6)
+    r.Fail(node, "expected a whole number for " + what);
   return static_cast<int>(v);
 }
 
@@ -103,7 +107,8 @@ void ReadJointLevel(const Reader& r, const YAML::Node& root, Robot* robot) {
     robot->velocity_limits.resize(n);
     for (int i = 0; i < n; ++i) {
       if (!(v[i] > 0.0)) r.Fail(root["velocity_limits"][i], "expected a positive velocity limit");
-      robot->velocity_limits[i] = v[i] * (robot->model().joint_type(i) == JointType::kRevolute ? angle.to_si : length.to_si);
+      robot->velocity_limits[i] =
+          v[i] * (robot->model().joint_type(i) == JointType::kRevolute ? angle.to_si : length.to_si);
     }
   }
   if (root["coupling"]) {
@@ -143,8 +148,8 @@ std::string JointLevelToYaml(const Robot& robot) {
   if (robot.velocity_limits.size() != 0) {
     std::vector<std::string> v;
     for (int i = 0; i < n; ++i) {
-      v.push_back(FormatInUnit(robot.velocity_limits[i],
-                               robot.model().joint_type(i) == JointType::kRevolute ? angle : length));
+      v.push_back(
+          FormatInUnit(robot.velocity_limits[i], robot.model().joint_type(i) == JointType::kRevolute ? angle : length));
     }
     out << "velocity_limits: " << List(v) << "\n";
   }
@@ -158,7 +163,8 @@ std::string JointLevelToYaml(const Robot& robot) {
     out << "coupling: " << List(rows) << "\n";
   }
   if (robot.gravity) {
-    out << "gravity: " << List({FormatExact(robot.gravity->x()), FormatExact(robot.gravity->y()), FormatExact(robot.gravity->z())})
+    out << "gravity: "
+        << List({FormatExact(robot.gravity->x()), FormatExact(robot.gravity->y()), FormatExact(robot.gravity->z())})
         << "\n";
   }
   if (!robot.joint_errors.empty()) {

@@ -54,16 +54,15 @@ class Reader {
   std::vector<double> Numbers(const YAML::Node& node, const std::string& what, int expected) const {
     if (!node.IsSequence()) Fail(node, "expected a list of numbers for " + what);
     if (expected >= 0 && static_cast<int>(node.size()) != expected) {
-      Fail(node, "expected " + std::to_string(expected) + " numbers for " + what + ", got " +
-                     std::to_string(node.size()));
+      Fail(node,
+           "expected " + std::to_string(expected) + " numbers for " + what + ", got " + std::to_string(node.size()));
     }
     std::vector<double> out;
     for (const auto& item : node) out.push_back(Number(item, what));
     return out;
   }
 
-  Eigen::Isometry3d Pose(const YAML::Node& node, const std::string& what, const Unit& length,
-                         const Unit& angle) const {
+  Eigen::Isometry3d Pose(const YAML::Node& node, const std::string& what, const Unit& length, const Unit& angle) const {
     ExpectMap(node, what);
     CheckKeys(node, {"xyz", "rpy"}, what);
     Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();

@@ -17,7 +17,8 @@ bool SimulatorOptions::IsValid(std::string* why) const {
     if (why) *why = what;
     return false;
   };
-  if (protocol != "sweep" && protocol != "random") return fail("protocol must be 'sweep' or 'random', got '" + protocol + "'");
+  if (protocol != "sweep" && protocol != "random")
+    return fail("protocol must be 'sweep' or 'random', got '" + protocol + "'");
   if (protocol == "random" && poses < 1) return fail("poses must be at least 1");
   if (protocol == "sweep" && stops < 1) return fail("stops must be at least 1");
   if (!std::isfinite(step)) return fail("step must be finite");
@@ -39,7 +40,8 @@ Dataset Simulate(const Robot& nominal, const Robot& truth, const SimulatorOption
     throw std::invalid_argument("simulate: give drives in both the nominal and the truth robot file, or in neither");
   }
   Eigen::VectorXd start = options.start.size() ? options.start : Eigen::VectorXd::Zero(n);
-  if (start.size() != n) throw std::invalid_argument("simulate: the start configuration needs " + std::to_string(n) + " values");
+  if (start.size() != n)
+    throw std::invalid_argument("simulate: the start configuration needs " + std::to_string(n) + " values");
 
   std::vector<std::string> markers = options.markers;
   if (markers.empty()) {
@@ -53,10 +55,12 @@ Dataset Simulate(const Robot& nominal, const Robot& truth, const SimulatorOption
   Rng rng(options.seed);
   if (options.protocol == "sweep") {
     std::vector<int> order = options.sweep_order;
-    if (order.empty()) for (int j = n; j >= 1; --j) order.push_back(j);
+    if (order.empty())
+      for (int j = n; j >= 1; --j) order.push_back(j);
     Eigen::VectorXd q = start;
     for (int joint : order) {
-      if (joint < 1 || joint > n) throw std::invalid_argument("simulate: sweep joint " + std::to_string(joint) + " out of range");
+      if (joint < 1 || joint > n)
+        throw std::invalid_argument("simulate: sweep joint " + std::to_string(joint) + " out of range");
       const double first = q[joint - 1];
       for (int k = 0; k < options.stops; ++k) {
         q[joint - 1] = first + k * options.step;

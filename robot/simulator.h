@@ -19,17 +19,17 @@ struct SimulatorOptions {
   // current angle), the others holding their current angle, so a joint swept earlier stays where its
   // sweep ended. "random": `poses` configurations uniform within the nominal robot's joint limits.
   std::string protocol = "sweep";
-  int poses = 100;                          // random protocol
-  int stops = 20;                           // sweep protocol, stops per joint
-  double step = 2.0 * M_PI / 180.0;         // sweep protocol, rad between stops
-  Eigen::VectorXd start;                    // calibration configuration (commanded); empty = zeros
-  std::vector<int> sweep_order;             // 1-based joints; empty = n, n-1, ..., 1
+  int poses = 100;                   // random protocol
+  int stops = 20;                    // sweep protocol, stops per joint
+  double step = 2.0 * M_PI / 180.0;  // sweep protocol, rad between stops
+  Eigen::VectorXd start;             // calibration configuration (commanded); empty = zeros
+  std::vector<int> sweep_order;      // 1-based joints; empty = n, n-1, ..., 1
   // Position noise per axis: sigma = noise_sigma + noise_range_coefficient * distance to the instrument
   // (the measurement-frame origin), m and m/m. A laser tracker is roughly 5e-6 m + 5e-6 m/m.
   double noise_sigma = 0.0;
   double noise_range_coefficient = 0.0;
-  bool orientation = false;                 // also record the tool orientation (qw, qx, qy, qz)
-  double orientation_noise = 0.0;           // rad, per axis of a small rotation
+  bool orientation = false;        // also record the tool orientation (qw, qx, qy, qz)
+  double orientation_noise = 0.0;  // rad, per axis of a small rotation
   // Markers to record at every pose (ids of the truth robot's `markers`); empty = the tool origin, or
   // every marker when the truth robot lists some.
   std::vector<std::string> markers;

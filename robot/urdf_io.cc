@@ -96,14 +96,16 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
                  const std::string& tip_link) {
   TiXmlDocument xml;
   xml.Parse(text.c_str());
-  if (xml.Error()) ThrowInputError(path, xml.ErrorRow(), xml.ErrorCol(), std::string("invalid XML: ") + xml.ErrorDesc());
+  if (xml.Error())
+    ThrowInputError(path, xml.ErrorRow(), xml.ErrorCol(), std::string("invalid XML: ") + xml.ErrorDesc());
   CheckTree(xml, path);
   Chain chain;
   {
     CaptureErrors errors;
     chain.model = urdf::parseURDF(text);
     if (!chain.model) {
-      ThrowInputError(path + ": not a valid URDF" + (errors.first_error.empty() ? "" : " (" + errors.first_error + ")"));
+      ThrowInputError(path + ": not a valid URDF" +
+                      (errors.first_error.empty() ? "" : " (" + errors.first_error + ")"));
     }
   }
   const auto& links = chain.model->links_;
@@ -119,7 +121,9 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
     }
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR ||
         joint->type == urdf::Joint::UNKNOWN) {
-      const char* type = joint->type == urdf::Joint::FLOATING ? "floating" : joint->type == urdf::Joint::PLANAR ? "planar" : "unknown";
+      const char* type = joint->type == urdf::Joint::FLOATING ? "floating"
+                         : joint->type == urdf::Joint::PLANAR ? "planar"
+                                                              : "unknown";
       ThrowInputError(path + ": joint '" + joint->name + "' is " + type +
                       "; kincal models revolute, continuous, prismatic and fixed joints");
     }
@@ -161,19 +165,21 @@ void CheckNumbers(const urdf::Joint& joint, const std::string& path) {
 }  // namespace
 
 Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
-  if (options.base_link.empty() || options.tip_link.empty()) ThrowInputError("kincal import needs --base and --tip links");
+  if (options.base_link.empty() || options.tip_link.empty())
+    ThrowInputError("kincal import needs --base and --tip links");
   const Chain chain = ParseChain(ReadFileToString(path), path, options.base_link, options.tip_link);
   std::vector<JointType> types;
   for (const auto& joint : chain.joints) {
     CheckNumbers(*joint, path);
-    if (IsMoving(*joint)) types.push_back(joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute);
+    if (IsMoving(*joint))
+      types.push_back(joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute);
   }
   if (types.empty()) {
     ThrowInputError(path + ": no moving joint between '" + options.base_link + "' and '" + options.tip_link + "'");
   }
   UrdfModel model(types);
-  Robot::UrdfSource source{std::filesystem::absolute(path).lexically_normal().string(), options.base_link,
-                           options.tip_link, {}};
+  Robot::UrdfSource source{
+      std::filesystem::absolute(path).lexically_normal().string(), options.base_link, options.tip_link, {}};
   std::vector<std::pair<double, double>> limits;
   Eigen::VectorXd velocity(static_cast<Eigen::Index>(types.size()));
   bool limits_ok = true, velocity_ok = true;
@@ -195,8 +201,10 @@ Robot ImportUrdf(const std::string& path, const UrdfImportOptions& options) {
     } else {
       limits_ok = false;
     }
-    if (joint->limits && joint->limits->velocity > 0.0) velocity[i] = joint->limits->velocity;
-    else velocity_ok = false;
+    if (joint->limits && joint->limits->velocity > 0.0)
+      velocity[i] = joint->limits->velocity;
+    else
+      velocity_ok = false;
   }
   model.SetTool(pending);
   Robot urdf_robot(chain.model->getName().empty() ? std::string("robot") : chain.model->getName(), model.Clone());
@@ -241,11 +249,13 @@ void SetLimits(TiXmlElement* joint, const Robot& robot, int i, const urdf::Joint
   if (!robot.limits.empty() && parsed.type != urdf::Joint::CONTINUOUS) {
     const auto [low, high] = robot.limits[i];
     if (!parsed.limits || std::abs(parsed.limits->lower - low) > 1e-12) limit->SetAttribute("lower", FormatExact(low));
-    if (!parsed.limits || std::abs(parsed.limits->upper - high) > 1e-12) limit->SetAttribute("upper", FormatExact(high));
+    if (!parsed.limits || std::abs(parsed.limits->upper - high) > 1e-12)
+      limit->SetAttribute("upper", FormatExact(high));
   }
   if (robot.velocity_limits.size() == robot.dof()) {
     const double v = robot.velocity_limits[i];
-    if (!parsed.limits || std::abs(parsed.limits->velocity - v) > 1e-12) limit->SetAttribute("velocity", FormatExact(v));
+    if (!parsed.limits || std::abs(parsed.limits->velocity - v) > 1e-12)
+      limit->SetAttribute("velocity", FormatExact(v));
   }
 }
 
@@ -283,8 +293,8 @@ CalibratedAxes AxesInBaseFrame(const KinematicModel& model) {
   for (int i = 0; i < model.dof(); ++i) {
     const bool revolute = model.joint_type(i) == JointType::kRevolute;
     const Eigen::Vector3d w = (revolute ? J.col(i).tail<3>() : J.col(i).head<3>()).normalized();
-    const Eigen::Vector3d p = revolute ? Eigen::Vector3d(T_meas_tool.translation() + w.cross(J.col(i).head<3>()))
-                                       : T_meas_tool.translation();
+    const Eigen::Vector3d p =
+        revolute ? Eigen::Vector3d(T_meas_tool.translation() + w.cross(J.col(i).head<3>())) : T_meas_tool.translation();
     out.direction.push_back(T_base_meas.linear() * w);
     out.point.push_back(T_base_meas * p);
   }
@@ -301,13 +311,15 @@ std::string EditSourceUrdf(const Robot& robot) {
   }
   bool same = static_cast<int>(moving.size()) == robot.dof();
   for (size_t i = 0; same && i < moving.size(); ++i) same = chain.joints[moving[i]]->name == source.joints[i];
-  if (!same) ThrowInputError(source.path + ": its chain from '" + source.base_link + "' no longer has the robot's joints");
+  if (!same)
+    ThrowInputError(source.path + ": its chain from '" + source.base_link + "' no longer has the robot's joints");
   const CalibratedAxes cal = AxesInBaseFrame(robot.model());
 
   // The source's joint frames at q = 0 (base link coordinates), then the calibrated ones.
   std::vector<Eigen::Isometry3d> frame_file(chain.joints.size());
   Eigen::Isometry3d P = Eigen::Isometry3d::Identity();
-  for (size_t k = 0; k < chain.joints.size(); ++k) frame_file[k] = P = P * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
+  for (size_t k = 0; k < chain.joints.size(); ++k)
+    frame_file[k] = P = P * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
   std::vector<Eigen::Isometry3d> frame = frame_file;
   for (int i = 0; i < robot.dof(); ++i) {
     const urdf::Joint& joint = *chain.joints[moving[i]];
@@ -341,13 +353,16 @@ std::string EditSourceUrdf(const Robot& robot) {
     frame[last] = F;
   } else {
     Eigen::Isometry3d after = Eigen::Isometry3d::Identity();
-    for (size_t k = last + 2; k < chain.joints.size(); ++k) after = after * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
+    for (size_t k = last + 2; k < chain.joints.size(); ++k)
+      after = after * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
     frame[last + 1] = cal.T_base_tool * after.inverse();
-    for (size_t k = last + 2; k < chain.joints.size(); ++k) frame[k] = frame[k - 1] * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
+    for (size_t k = last + 2; k < chain.joints.size(); ++k)
+      frame[k] = frame[k - 1] * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
   }
   // Fixed joints between moving ones keep their origins: recompute their frames from the new parents.
   for (size_t k = 1; k <= last; ++k) {
-    if (!IsMoving(*chain.joints[k])) frame[k] = frame[k - 1] * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
+    if (!IsMoving(*chain.joints[k]))
+      frame[k] = frame[k - 1] * ToIsometry(chain.joints[k]->parent_to_joint_origin_transform);
   }
 
   TiXmlDocument doc;
@@ -413,8 +428,10 @@ std::string NewUrdf(const Robot& robot) {
     const double offset = v[model.ParameterIndex("offset_" + std::to_string(i + 1))];
     Eigen::Isometry3d origin = model.JointOrigin(i);
     // URDF has no joint offset: it turns (or moves) the origin about (along) the axis.
-    if (model.joint_type(i) == JointType::kRevolute) origin.rotate(Eigen::AngleAxisd(offset, axis));
-    else origin.translate(axis * offset);
+    if (model.joint_type(i) == JointType::kRevolute)
+      origin.rotate(Eigen::AngleAxisd(offset, axis));
+    else
+      origin.translate(axis * offset);
     TiXmlElement* e = elements.at("joint_" + std::to_string(i + 1));
     SetOrigin(e, origin, never);
     Child(e, "axis")->SetAttribute("xyz", Numbers(axis));

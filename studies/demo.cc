@@ -29,12 +29,12 @@ std::string Indent(const std::string& text, const std::string& prefix) {
   return out;
 }
 
-// Registered, available, and not the baseline (which every study runs anyway).
+// Registered and not the baseline (which every study runs anyway).
 template <typename RegistryT>
 std::vector<std::string> Methods(const RegistryT& registry) {
   std::vector<std::string> out;
   for (const auto& n : registry.RegisteredNames()) {
-    if (n != "none" && registry.IsAvailable(n)) out.push_back(n);
+    if (n != "none") out.push_back(n);
   }
   return out;
 }
@@ -112,9 +112,9 @@ std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& re
     << "seed: " << options.seed << "\n"
     << "trials: " << options.trials << "\n"
     << "robots:\n"
-    << "  nominal:\n" << Indent(SeedNominalRobotYaml(), "    ")
-    << "  truth:\n" << Indent(SeedIdentifiedRobotYaml(), "    ")
-    << "datasets:\n"
+    << "  nominal:\n"
+    << Indent(SeedNominalRobotYaml(), "    ") << "  truth:\n"
+    << Indent(SeedIdentifiedRobotYaml(), "    ") << "datasets:\n"
     << "  - name: sweep\n"
     << "    simulate: {protocol: sweep, stops: " << options.stops << ", step: 2, noise: 5um, noise_range: 5um}\n"
     << "  - name: random\n"
@@ -129,7 +129,7 @@ std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& re
     return "random";
   };
   for (const auto& e : estimators) o << "  - {method: " << e << ", datasets: [" << dataset_of({e}) << "]}\n";
-  if (registries.estimators->IsAvailable("geometric") && registries.estimators->IsAvailable("ratio_regression")) {
+  if (registries.estimators->IsRegistered("geometric") && registries.estimators->IsRegistered("ratio_regression")) {
     o << "  - {method: \"geometric,ratio_regression\", datasets: [sweep]}   # the seed's method\n";
   }
   o << "compensators:";
@@ -212,12 +212,14 @@ std::string DemoSummary(const std::string& dir) {
     const double before_pos = data.Values(variant, "none", "none", v, "position_error_mean_mm").Mean();
     const double before_ori = data.Values(variant, "none", "none", v, "orientation_error_mean_deg").Mean();
     const double ori = data.Values(variant, best->estimator, best->compensator, v, "orientation_error_mean_deg").Mean();
-    std::snprintf(line, sizeof(line), "\nbest on %s, %s: %s, %s mm / %s deg -> %s mm / %s deg (seed: 2.83 / 1.14 -> 0.54 / 0.24)",
-                  data.variants()[variant].label.c_str(), v.c_str(), best->label.c_str(), ReportNumber(before_pos).c_str(),
-                  ReportNumber(before_ori).c_str(), ReportNumber(best_position).c_str(), ReportNumber(ori).c_str());
+    std::snprintf(
+        line, sizeof(line), "\nbest on %s, %s: %s, %s mm / %s deg -> %s mm / %s deg (seed: 2.83 / 1.14 -> 0.54 / 0.24)",
+        data.variants()[variant].label.c_str(), v.c_str(), best->label.c_str(), ReportNumber(before_pos).c_str(),
+        ReportNumber(before_ori).c_str(), ReportNumber(best_position).c_str(), ReportNumber(ori).c_str());
     o << line;
   }
-  o << "\n\n(model): the identified robot's own prediction error, no compensation. Full report: " << dir << "/report.md\n";
+  o << "\n\n(model): the identified robot's own prediction error, no compensation. Full report: " << dir
+    << "/report.md\n";
   return o.str();
 }
 

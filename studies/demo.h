@@ -14,11 +14,11 @@ namespace kincal {
 
 // The demo's sizes, chosen so that it finishes in about a minute on 2 cores with every method.
 struct DemoOptions {
-  int trials = 3;             // Monte Carlo trials
-  int seed_targets = 10;      // the seed's 10 random targets
-  int extra_targets = 1000;   // "and 1000 more"
-  int stops = 20;             // the seed's protocol: stops per joint (the random dataset matches 6 x stops)
-  bool iso = true;            // the ISO 9283 cube
+  int trials = 3;            // Monte Carlo trials
+  int seed_targets = 10;     // the seed's 10 random targets
+  int extra_targets = 1000;  // "and 1000 more"
+  int stops = 20;            // the seed's protocol: stops per joint (the random dataset matches 6 x stops)
+  bool iso = true;           // the ISO 9283 cube
   uint64_t seed = 1;
   bool IsValid(std::string* why) const;
 };

@@ -1,3 +1,5 @@
+// Over 600 lines on purpose: one class (StudyEvaluator) whose preparation, runs and scoring of a work
+// item share its prepared datasets and registries; the scoring steps are named functions above it.
 #include "studies/evaluation.h"
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "compensators/program.h"
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "framework/error.h"
 #include "framework/math.h"
@@ -36,7 +39,8 @@ YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::No
 // when it has drives), coming from the previous target's commands (robot/joint_readings.h).
 Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const CompensationResult& r,
                             const Eigen::VectorXd* previous_command) {
-  return ActualFromReadings(nominal, truth, r.q_command, previous_command, truth.drives ? r.encoders : std::vector<int64_t>{});
+  return ActualFromReadings(nominal, truth, r.q_command, previous_command,
+                            truth.drives ? r.encoders : std::vector<int64_t>{});
 }
 
 // The baseline on measured data: the nominal geometry placed in the instrument's frame, only the base and
@@ -122,7 +126,7 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
     }
     rows.push_back(row);
   }
-  // Markers and joint-level error coefficients are identified like the geometry (issue 11): a study that
+  // Markers and joint-level error coefficients are identified like the geometry: a study that
   // compares "geometry only" against "with joint errors" shows them, in mm and deg like the rest
   // (approach terms in s: deg per deg/s).
   const auto nominal_value = [](const auto& map, const std::string& key, auto get) {
@@ -137,7 +141,8 @@ std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, c
       row.nominal = nominal_value(nominal.markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
       row.estimate = p_tool_marker[k] * 1e3;
       row.stddev = stddev_of(row.name) * 1e3;
-      if (truth) row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
+      if (truth)
+        row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
       rows.push_back(row);
     }
   }
@@ -193,7 +198,8 @@ std::string NonFiniteParameters(const Robot& robot) {
   }
   if (robot.drives) {
     for (int j = 0; j < robot.drives->ratio.size(); ++j) {
-      if (!std::isfinite(robot.drives->ratio[j])) names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
+      if (!std::isfinite(robot.drives->ratio[j]))
+        names += (names.empty() ? "" : ", ") + ("ratio_" + std::to_string(j + 1));
     }
   }
   return names;
@@ -224,7 +230,7 @@ std::vector<HeldoutPoint> HeldoutPoints(const Robot& identified, const Dataset& 
     h.error = e.position[i];
     const Eigen::VectorXd* from = test.PreviousQ(previous[i]);
     if (from && v.size() == m.q.size()) {
-      // The move's duration when all joints arrive together at the slowest joint's pace (issue 11).
+      // The move's duration when all joints arrive together at the slowest joint's pace.
       const Eigen::ArrayXd dq = (m.q - *from).array().abs();
       const double duration = (dq / v.array()).maxCoeff();
       if (duration > 0.0) h.approach_speed = dq.maxCoeff() / duration;
@@ -259,6 +265,64 @@ std::vector<SelectionRow> SelectionRows(const EstimationReport& report) {
     out.push_back(r);
   }
   return out;
+}
+
+// One validation set's targets compensated as a program (each from the previous commands) and scored on
+// the true arm: position and orientation errors, convergence, time per target, ISO 9283 cycles, and the
+// reports for the convergence plot when keep_reports. Throws for a non-finite solution.
+void ScoreProgram(const Compensator& compensator, const Robot& nominal, const Robot& truth,
+                  const std::vector<ValidationTarget>& targets, bool with_orientation, const ValidationSpec& spec,
+                  uint64_t dataset_seed, bool keep_reports, EvaluationRow* row) {
+  std::vector<double> position, orientation;
+  std::vector<CompensationReport> reports;
+  double seconds = 0.0;
+  const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
+  // The validation targets are a program, compensated in order (each from the previous commands).
+  std::vector<CompensationTarget> goals(targets.size());
+  for (size_t t = 0; t < goals.size(); ++t) {
+    goals[t].T_meas_tool = targets[t].T_meas_tool;
+    goals[t].has_orientation = with_orientation;
+    goals[t].seed = targets[t].q_nominal;
+  }
+  std::vector<CompensationResult> results = CompensateProgram(compensator, goals);
+  for (size_t t = 0; t < goals.size(); ++t) {
+    const ValidationTarget& target = targets[t];
+    const CompensationTarget& goal = goals[t];
+    CompensationResult& r = results[t];
+    if (r.report.non_finite) {
+      throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
+                               spec.name);
+    }
+    seconds += r.report.wall_time_seconds;
+    if (r.report.status == CompensationStatus::kConverged) ++row->converged;
+    const Eigen::VectorXd q_truth = TruthAngles(nominal, truth, r, t > 0 ? &results[t - 1].q_command : nullptr);
+    const Eigen::Isometry3d T = truth.model().ForwardKinematics(q_truth);
+    position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
+    if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
+    if (iso) {
+      // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
+      Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
+      std::vector<Eigen::Isometry3d> attained;
+      for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
+        Eigen::VectorXd q = q_truth;
+        for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
+        Eigen::Isometry3d Tc = truth.model().ForwardKinematics(q);
+        for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
+        attained.push_back(Tc);
+      }
+      row->iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
+    }
+    if (keep_reports) reports.push_back(std::move(r.report));
+  }
+  row->targets = static_cast<int>(targets.size());
+  row->position = SummarizeErrors(position);
+  row->orientation = SummarizeErrors(orientation);
+  row->compensate_seconds_per_target = row->targets ? seconds / row->targets : NAN;
+  if (!reports.empty()) row->convergence = Convergence(reports);
+  if (row->status == "ok" && row->converged < row->targets) {
+    row->status = "compensation_partial";
+    row->note = std::to_string(row->converged) + " of " + std::to_string(row->targets) + " targets converged";
+  }
 }
 
 }  // namespace
@@ -311,7 +375,8 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       }
       d.measured.Validate(d.nominal.dof());
       if (spec.split == DatasetSpec::Split::kColumn && d.measured.Subset(Split::kTest).rows.empty()) {
-        ThrowInputError(spec.file, 0, 0, "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
+        ThrowInputError(spec.file, 0, 0,
+                        "no test rows: add a split column, or give the dataset split: {test_fraction: F}");
       }
       datasets_.push_back(std::move(d));
       continue;
@@ -328,13 +393,14 @@ StudyEvaluator::StudyEvaluator(const Study& study, const MethodRegistries& regis
       const bool orientation = v.orientation && d.nominal.dof() >= 6;
       d.orientation.push_back(orientation);
       if (v.kind == ValidationSpec::Kind::kRandom) {
-        d.targets.push_back(
-            ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation, ValidationSeed(study_, v)));
+        d.targets.push_back(ReachableRandomTargets(d.nominal, d.truth, v.count, v.joint_limits, orientation,
+                                                   ValidationSeed(study_, v)));
       } else {
         try {
           d.targets.push_back(PlaceIso9283Cube(d.nominal, v.iso, orientation, ValidationSeed(study_, v)).poses);
         } catch (const std::invalid_argument& e) {
-          ThrowInputError(study_.source, 0, 0, "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
+          ThrowInputError(study_.source, 0, 0,
+                          "validation '" + v.name + "' on dataset '" + spec.name + "': " + e.what());
         }
       }
     }
@@ -378,12 +444,13 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
   }
   // SelectRows keeps each row's previous pose from the whole sequence (joint errors of the move need it).
   std::vector<int> train_rows, test_rows;
-  for (size_t i = 0; i < all.rows.size(); ++i) (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
+  for (size_t i = 0; i < all.rows.size(); ++i)
+    (is_test[pose_of[i]] ? test_rows : train_rows).push_back(static_cast<int>(i));
   *test = all.SelectRows(test_rows);
   return all.SelectRows(train_rows);
 }
 
-// Issue 10: a method that throws (anything) or returns non-finite numbers fails its work item (or, for a
+// A method that throws (anything) or returns non-finite numbers fails its work item (or, for a
 // compensator, its rows) with the reason as the note; the study goes on.
 ItemResult StudyEvaluator::Run(const WorkItem& item) const {
   try {
@@ -414,8 +481,9 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     for (size_t i = 0; i < pipeline.methods.size(); ++i) {
       method = pipeline.methods[i];
       const bool placement = !spec.simulated && pipeline.methods[i] == "none";
-      const auto estimator = placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
-                                       : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
+      const auto estimator =
+          placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
+                    : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
       Robot next;
       reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
       seconds += reports.back().wall_time_seconds;
@@ -432,7 +500,8 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
       if (ParametersAtBounds(r) > 0) {
         why += (why.empty() ? "" : ", ") + std::to_string(ParametersAtBounds(r)) + " parameter(s) on their bounds";
       }
-      if (!why.empty()) result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
+      if (!why.empty())
+        result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
     }
   } catch (...) {
     result.estimation_status = "error";
@@ -472,7 +541,8 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
         const PredictionErrors e = EvaluatePredictions(d.nominal, identified, test);
         const bool all_oriented = e.orientation.size() == test.rows.size();
         std::vector<double> position, orientation;
-        for (const MeasuredIsoPose& p : MeasuredIso9283(d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
+        for (const MeasuredIsoPose& p : MeasuredIso9283(
+                 d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
           iso.iso.push_back({p.pose, p.stats});
           for (int r : p.rows) {
             position.push_back(e.position[r]);
@@ -548,56 +618,8 @@ void StudyEvaluator::Evaluate(const WorkItem& item, const PreparedDataset& d, co
       compensator->Prepare(d.nominal, identified);
       for (size_t v = 0; v < rows.size(); ++v) {
         const ValidationSpec& spec = study_.validation[v];
-        EvaluationRow& row = rows[v];
-        std::vector<double> position, orientation;
-        std::vector<CompensationReport> reports;
-        double seconds = 0.0;
-        const bool iso = spec.kind == ValidationSpec::Kind::kIso9283;
-        Eigen::VectorXd previous_command;  // the program's previous target, in order
-        for (size_t t = 0; t < d.targets[v].size(); ++t) {
-          const ValidationTarget& target = d.targets[v][t];
-          CompensationTarget goal;
-          goal.T_meas_tool = target.T_meas_tool;
-          goal.has_orientation = d.orientation[v];
-          goal.seed = target.q_nominal;
-          goal.previous_command = previous_command;
-          CompensationResult r = compensator->Compensate(goal);
-          if (r.report.non_finite) {
-            throw std::runtime_error("returned a non-finite solution at target " + std::to_string(t + 1) + " of " +
-                                     spec.name);
-          }
-          seconds += r.report.wall_time_seconds;
-          if (r.report.status == CompensationStatus::kConverged) ++row.converged;
-          const Eigen::VectorXd q_truth =
-              TruthAngles(d.nominal, d.truth, r, previous_command.size() ? &previous_command : nullptr);
-          previous_command = r.q_command;
-          const Eigen::Isometry3d T = d.truth.model().ForwardKinematics(q_truth);
-          position.push_back((T.translation() - target.T_meas_tool.translation()).norm());
-          if (goal.has_orientation) orientation.push_back(RotationAngleBetween(T.linear(), target.T_meas_tool.linear()));
-          if (iso) {
-            // ISO 9283 cycles: the same commands each cycle; the arm's joints and the instrument add noise.
-            Rng rng(Rng::Derive(Rng::Derive(dataset_seed, HashLabel("iso:" + spec.name)), t));
-            std::vector<Eigen::Isometry3d> attained;
-            for (int cycle = 0; cycle < spec.iso.cycles; ++cycle) {
-              Eigen::VectorXd q = q_truth;
-              for (int j = 0; j < q.size(); ++j) q[j] += spec.iso.joint_noise * rng.Normal();
-              Eigen::Isometry3d Tc = d.truth.model().ForwardKinematics(q);
-              for (int k = 0; k < 3; ++k) Tc.translation()[k] += spec.iso.measurement_noise * rng.Normal();
-              attained.push_back(Tc);
-            }
-            row.iso.push_back({static_cast<int>(t) + 1, ComputeIso9283(target.T_meas_tool, attained)});
-          }
-          if (static_cast<int>(v) == convergence_validation_) reports.push_back(std::move(r.report));
-        }
-        row.targets = static_cast<int>(d.targets[v].size());
-        row.position = SummarizeErrors(position);
-        row.orientation = SummarizeErrors(orientation);
-        row.compensate_seconds_per_target = row.targets ? seconds / row.targets : NAN;
-        if (!reports.empty()) row.convergence = Convergence(reports);
-        if (row.status == "ok" && row.converged < row.targets) {
-          row.status = "compensation_partial";
-          row.note = std::to_string(row.converged) + " of " + std::to_string(row.targets) + " targets converged";
-        }
+        ScoreProgram(*compensator, d.nominal, d.truth, d.targets[v], d.orientation[v], spec, dataset_seed,
+                     static_cast<int>(v) == convergence_validation_, &rows[v]);
       }
     } catch (...) {
       const std::string reason = "compensator " + c.method + ": " + CurrentExceptionText();

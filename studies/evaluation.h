@@ -35,7 +35,7 @@ struct ConvergencePoint {
   int iteration = 0;
   double position_median = NAN, position_max = NAN;        // m
   double orientation_median = NAN, orientation_max = NAN;  // rad
-  int active_targets = 0;  // targets still iterating
+  int active_targets = 0;                                  // targets still iterating
 };
 
 struct IsoPoseResult {
@@ -69,16 +69,16 @@ struct ParameterRow {
 
 // One held-out row of measured data, for the report's error against reach and against approach speed.
 struct HeldoutPoint {
-  int row = 0;                  // index among the test rows, in measurement order
+  int row = 0;  // index among the test rows, in measurement order
   std::string marker;
-  double reach = NAN;           // m: the measured point's distance from the axis of joint 1 (base frame z)
-  double approach_speed = NAN;  // rad/s: the fastest joint's speed on its way to the pose when every joint
-                                // moves at the slowest joint's pace (velocity limits); NaN without limits
-                                // or without a previous pose
-  double error = NAN;           // m: position error of the identified robot's prediction
-  double sd = NAN;              // m: its predicted standard deviation (estimators/error_model/
-                                // prediction_uncertainty.h), NaN when the last estimator gives no covariance
-  bool outside_support = false; // sd above the documented multiple of the training rows' median
+  double reach = NAN;            // m: the measured point's distance from the axis of joint 1 (base frame z)
+  double approach_speed = NAN;   // rad/s: the fastest joint's speed on its way to the pose when every joint
+                                 // moves at the slowest joint's pace (velocity limits); NaN without limits
+                                 // or without a previous pose
+  double error = NAN;            // m: position error of the identified robot's prediction
+  double sd = NAN;               // m: its predicted standard deviation (estimators/error_model/
+                                 // prediction_uncertainty.h), NaN when the last estimator gives no covariance
+  bool outside_support = false;  // sd above the documented multiple of the training rows' median
 };
 
 // One candidate of a model selection (`select: true`; estimators/selection/model_selection.h).
@@ -96,7 +96,7 @@ struct ItemResult {
   double identify_seconds = NAN;
   std::vector<EvaluationRow> rows;
   std::vector<ParameterRow> parameters;
-  std::vector<HeldoutPoint> heldout;  // measured data only
+  std::vector<HeldoutPoint> heldout;    // measured data only
   std::vector<SelectionRow> selection;  // the last estimator's model selection, if it selected
 };
 

@@ -38,7 +38,7 @@ void WriteAll(int fd, const std::string& text, const std::string& path) {
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw std::runtime_error(SystemError(path, "cannot write the journal"));
+    if (n <= 0) ThrowIoError(path, "cannot write the journal");
     done += static_cast<size_t>(n);
   }
 }
@@ -78,12 +78,14 @@ StudyTables DecodeJournalRows(const std::string& payload) {
 
 std::string StudyFingerprint(const Study& study, int shard_index, int shard_count) {
   std::string text = std::to_string(study.text_hash) + "\n";
-  text += StudyManifest(study, Variants(study), static_cast<int>(WorkItems(study, Variants(study)).size())).dump() + "\n";
+  text +=
+      StudyManifest(study, Variants(study), static_cast<int>(WorkItems(study, Variants(study)).size())).dump() + "\n";
   text += RobotToYaml(study.nominal.robot) + "\n";
   if (study.truth) text += RobotToYaml(study.truth->robot) + "\n";
   for (const DatasetSpec& d : study.datasets) {
     if (!d.simulated) text += Hex(HashLabel(ReadFileToString(d.file))) + "\n";
-    for (const auto& [marker, path] : d.position_tables) text += marker + " " + Hex(HashLabel(ReadFileToString(path))) + "\n";
+    for (const auto& [marker, path] : d.position_tables)
+      text += marker + " " + Hex(HashLabel(ReadFileToString(path))) + "\n";
     if (!d.sequence_table.empty()) text += "sequence " + Hex(HashLabel(ReadFileToString(d.sequence_table))) + "\n";
   }
   return Hex(HashLabel(text)) + "/shard-" + std::to_string(shard_index) + "-of-" + std::to_string(shard_count);
@@ -112,7 +114,8 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
       }
       if (first + "\n" != header) {
         ThrowInputError(path_ + ": written by a different study or shard (journal " + first.substr(sizeof(kMagic) - 1) +
-                        ", this run " + fingerprint + "); its results are not mixed in: choose another --out folder, "
+                        ", this run " + fingerprint +
+                        "); its results are not mixed in: choose another --out folder, "
                         "or delete the journal to start over");
       }
       valid = header.size();
@@ -122,7 +125,8 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
         unsigned long long bytes = 0;
         char checksum[17] = {0};
         int consumed = 0;
-        const std::string head = text.substr(valid, line_end == std::string::npos ? std::string::npos : line_end - valid);
+        const std::string head =
+            text.substr(valid, line_end == std::string::npos ? std::string::npos : line_end - valid);
         if (std::sscanf(head.c_str(), "item %d %llu %16s %n", &item, &bytes, checksum, &consumed) != 3 ||
             consumed <= 0) {
           if (line_end == std::string::npos) break;  // torn in its first bytes
@@ -149,16 +153,16 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
       }
     }
     if (valid == 0) {  // new, empty or torn within its header
-      if (::ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path_, "cannot truncate the journal"));
+      if (::ftruncate(fd_, 0) != 0) ThrowIoError(path_, "cannot truncate the journal");
       discarded_bytes_ = static_cast<long>(text.size());
       ::lseek(fd_, 0, SEEK_SET);
       WriteAll(fd_, header, path_);
-      if (::fsync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+      if (::fsync(fd_) != 0) ThrowIoError(path_, "cannot sync the journal");
       if (!existed) SyncFolder(dir);
     } else if (valid < text.size()) {
       discarded_bytes_ = static_cast<long>(text.size() - valid);
       if (::ftruncate(fd_, static_cast<off_t>(valid)) != 0 || ::fsync(fd_) != 0) {
-        throw std::runtime_error(SystemError(path_, "cannot truncate the torn end of the journal"));
+        ThrowIoError(path_, "cannot truncate the torn end of the journal");
       }
     }
     ::lseek(fd_, 0, SEEK_END);
@@ -179,7 +183,7 @@ void StudyJournal::Append(int item, const StudyTables& rows) {
                              Hex(HashLabel(payload)) + " " + payload + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
   WriteAll(fd_, record, path_);
-  if (::fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+  if (::fdatasync(fd_) != 0) ThrowIoError(path_, "cannot sync the journal");
 }
 
 }  // namespace kincal

@@ -1,5 +1,5 @@
 #pragma once
-// The journal of a resumable study (issue 13): `study.journal` in the output folder, one record per finished
+// The journal of a resumable study: `study.journal` in the output folder, one record per finished
 // work item, appended, flushed and synced as each item finishes. Running the same study on the same folder
 // again reads it back and runs only the items it lacks; the rows of a journaled item are the exact text cells
 // the result tables get, so a stopped-and-resumed run writes the bytes of an uninterrupted one.

@@ -8,7 +8,8 @@
 
 namespace kincal {
 
-std::vector<std::vector<int>> GroupVisits(const Robot& controller, const Dataset& data, const VisitTolerance& tolerance) {
+std::vector<std::vector<int>> GroupVisits(const Robot& controller, const Dataset& data,
+                                          const VisitTolerance& tolerance) {
   const std::vector<Dataset::Previous> previous = data.PreviousPoses();
   std::vector<Eigen::Isometry3d> T_base_tool(data.rows.size());
   for (size_t i = 0; i < data.rows.size(); ++i) {

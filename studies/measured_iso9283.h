@@ -32,18 +32,19 @@
 namespace kincal {
 
 struct MeasuredIsoPose {
-  int pose = 0;            // 1-based, in order of first visit
-  std::vector<int> rows;   // the visits, indices into the dataset, in measurement order
+  int pose = 0;           // 1-based, in order of first visit
+  std::vector<int> rows;  // the visits, indices into the dataset, in measurement order
   Iso9283PoseStats stats;
 };
 
 struct VisitTolerance {
-  double length = 0.2e-3;                // m
-  double angle = 0.1 * M_PI / 180.0;     // rad
+  double length = 0.2e-3;             // m
+  double angle = 0.1 * M_PI / 180.0;  // rad
 };
 
 // Visits of commanded poses (see above); every group, also those visited once.
-std::vector<std::vector<int>> GroupVisits(const Robot& controller, const Dataset& data, const VisitTolerance& tolerance);
+std::vector<std::vector<int>> GroupVisits(const Robot& controller, const Dataset& data,
+                                          const VisitTolerance& tolerance);
 
 // The ISO 9283 characteristics of every pose of `data` visited at least `min_cycles` (>= 2) times.
 std::vector<MeasuredIsoPose> MeasuredIso9283(const Robot& controller, const Robot& model, const Dataset& data,

@@ -10,8 +10,12 @@ namespace kincal {
 bool StderrIsTerminal() { return ::isatty(2) == 1; }
 
 ProgressReporter::ProgressReporter(std::ostream* out, bool interactive, int total, std::string what)
-    : out_(out), interactive_(interactive), total_(total), what_(std::move(what)),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {
+    : out_(out),
+      interactive_(interactive),
+      total_(total),
+      what_(std::move(what)),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {
   if (out_ && interactive_) Draw(false);
 }
 
@@ -19,8 +23,10 @@ std::string ProgressReporter::FormatDuration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "--";
   const long s = std::lround(seconds);
   char buffer[32];
-  if (s >= 3600) std::snprintf(buffer, sizeof(buffer), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
-  else std::snprintf(buffer, sizeof(buffer), "%ld:%02ld", s / 60, s % 60);
+  if (s >= 3600)
+    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  else
+    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld", s / 60, s % 60);
   return buffer;
 }
 
@@ -62,8 +68,8 @@ void ProgressReporter::Draw(bool final) {
     const int filled = total_ > 0 ? done_ * kWidth / total_ : kWidth;
     std::string bar(filled, '#');
     bar += std::string(kWidth - filled, '.');
-    std::snprintf(line, sizeof(line), "\r[%s] %d/%d %s, %s elapsed, %s left ", bar.c_str(), done_, total_, what_.c_str(),
-                  FormatDuration(elapsed).c_str(), final ? "0:00" : FormatDuration(left).c_str());
+    std::snprintf(line, sizeof(line), "\r[%s] %d/%d %s, %s elapsed, %s left ", bar.c_str(), done_, total_,
+                  what_.c_str(), FormatDuration(elapsed).c_str(), final ? "0:00" : FormatDuration(left).c_str());
     *out_ << line;
   } else {
     std::snprintf(line, sizeof(line), "%d/%d %s done, %s elapsed, about %s left\n", done_, total_, what_.c_str(),

@@ -37,7 +37,8 @@ std::string Code(const std::string& text) { return text.empty() ? "defaults" : "
 std::string Statuses(const ReportData& data, int variant, const MethodPair& p, const std::string& validation) {
   const ResultTable& t = data.tables().results;
   std::map<std::string, int> counts;
-  for (size_t r : data.Rows(t, variant, p.estimator, p.compensator, validation)) ++counts[t.Text(r, t.Column("status"))];
+  for (size_t r : data.Rows(t, variant, p.estimator, p.compensator, validation))
+    ++counts[t.Text(r, t.Column("status"))];
   std::string out;
   for (const auto& [status, n] : counts) {
     out += (out.empty() ? "" : ", ") + (counts.size() == 1 && status == "ok" ? "ok" : std::to_string(n) + " " + status);
@@ -61,7 +62,7 @@ void WhatWasRun(std::ostream& o, const ReportData& data) {
   Row(o, {"work items (dataset x trial x estimator)", std::to_string(m.value("items", 0))});
   const auto& robots = m.at("robots");
   Row(o, {"nominal robot (the controller's)", Cell(robots.at("nominal").at("name").get<std::string>()) + " (" +
-                                                   Cell(robots.at("nominal").at("source").get<std::string>()) + ")"});
+                                                  Cell(robots.at("nominal").at("source").get<std::string>()) + ")"});
   if (robots.contains("truth")) {
     Row(o, {"truth (the simulated arm)", Cell(robots.at("truth").at("name").get<std::string>()) + " (" +
                                              Cell(robots.at("truth").at("source").get<std::string>()) + ")"});
@@ -87,7 +88,8 @@ void WhatWasRun(std::ostream& o, const ReportData& data) {
       if (!text.empty()) options += (options.empty() ? "" : "; ") + names[i].get<std::string>() + ": " + text;
     }
     for (const auto& d : e.at("datasets")) datasets += (datasets.empty() ? "" : ", ") + d.get<std::string>();
-    Row(o, {Cell(e.at("name").get<std::string>()), Cell(methods), Code(options), datasets.empty() ? "all" : Cell(datasets)});
+    Row(o, {Cell(e.at("name").get<std::string>()), Cell(methods), Code(options),
+            datasets.empty() ? "all" : Cell(datasets)});
   }
   o << "\n**Compensators**\n\n";
   Header(o, {"compensator", "method", "options"});
@@ -125,8 +127,9 @@ void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std:
   for (const auto& p : pairs) {
     if (p.label == "before") before = &p;
   }
-  Header(o, {"method", "position mean (mm)", "position RMS (mm)", "position max (mm)", "orientation mean (deg)",
-             "orientation max (deg)", "position vs before", "orientation vs before", "status"},
+  Header(o,
+         {"method", "position mean (mm)", "position RMS (mm)", "position max (mm)", "orientation mean (deg)",
+          "orientation max (deg)", "position vs before", "orientation vs before", "status"},
          {false, true, true, true, true, true, true, true, false});
   std::vector<std::string> notes;
   for (const auto& p : pairs) {
@@ -138,8 +141,8 @@ void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std:
     }
     const std::string label = p.label == "before" ? "**before**" : Cell(p.label);
     Row(o, {label, MeanSpread(pm), MeanSpread(value(p, "position_error_rms_mm")),
-            MeanSpread(value(p, "position_error_max_mm")), MeanSpread(om), MeanSpread(value(p, "orientation_error_max_deg")),
-            pi, oi, Cell(Statuses(data, variant, p, validation))});
+            MeanSpread(value(p, "position_error_max_mm")), MeanSpread(om),
+            MeanSpread(value(p, "orientation_error_max_deg")), pi, oi, Cell(Statuses(data, variant, p, validation))});
     const ResultTable& t = data.tables().results;
     std::set<std::string> seen;
     for (size_t r : data.Rows(t, variant, p.estimator, p.compensator, validation)) {
@@ -157,7 +160,8 @@ void ErrorTable(std::ostream& o, const ReportData& data, int variant, const std:
 void IsoTable(std::ostream& o, const ReportData& data, int variant, const std::string& validation) {
   const ResultTable& t = data.tables().iso9283;
   const std::vector<MethodPair> pairs = MethodPairs(data, variant, validation);
-  o << "ISO 9283 pose accuracy AP and repeatability RP at the poses P1, P2, ... (the largest over them; mean ± std over "
+  o << "ISO 9283 pose accuracy AP and repeatability RP at the poses P1, P2, ... (the largest over them; mean ± std "
+       "over "
        "trials). AP_P: distance from the commanded position to the mean attained one; RP_l = mean distance to "
        "the barycentre + 3 S_l; orientation: largest of the a, b, c components.\n\n";
   Header(o, {"method", "AP_P (mm)", "RP_l (mm)", "AP orientation (deg)", "RP orientation (deg)"},
@@ -169,8 +173,10 @@ void IsoTable(std::ostream& o, const ReportData& data, int variant, const std::s
       auto& worst = per_trial.try_emplace(t.Text(r, c_item), std::array<double, 4>{0, 0, 0, 0}).first->second;
       worst[0] = std::max(worst[0], t.Number(r, t.Column("AP_P_mm")));
       worst[1] = std::max(worst[1], t.Number(r, t.Column("RP_l_mm")));
-      for (const char* c : {"AP_a_deg", "AP_b_deg", "AP_c_deg"}) worst[2] = std::max(worst[2], std::abs(t.Number(r, t.Column(c))));
-      for (const char* c : {"RP_a_deg", "RP_b_deg", "RP_c_deg"}) worst[3] = std::max(worst[3], t.Number(r, t.Column(c)));
+      for (const char* c : {"AP_a_deg", "AP_b_deg", "AP_c_deg"})
+        worst[2] = std::max(worst[2], std::abs(t.Number(r, t.Column(c))));
+      for (const char* c : {"RP_a_deg", "RP_b_deg", "RP_c_deg"})
+        worst[3] = std::max(worst[3], t.Number(r, t.Column(c)));
     }
     if (per_trial.empty()) continue;
     TrialValues v[4];
@@ -196,10 +202,11 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
     for (const auto& p : params) any |= p.error.count(e) && p.error.at(e).count() > 0;
     if (e != "none" && any) estimators.push_back(e);
   }
-  o << (truth ? "Identified minus true value, mean ± standard deviation over trials; in brackets the standard deviation "
-                "the estimator reported (mean over trials). "
-              : "Identified minus nominal value (measured data: no truth), mean ± standard deviation over trials; in "
-                "brackets the reported standard deviation. ")
+  o << (truth
+            ? "Identified minus true value, mean ± standard deviation over trials; in brackets the standard deviation "
+              "the estimator reported (mean over trials). "
+            : "Identified minus nominal value (measured data: no truth), mean ± standard deviation over trials; in "
+              "brackets the reported standard deviation. ")
     << "Lengths in mm, angles in deg, ratios dimensionless; joint-error coefficients in deg, deg/mm or s (deg per "
        "deg/s).\n\n";
   std::vector<std::string> header = {"parameter", "unit"};
@@ -245,7 +252,8 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
   o << "\n";
 }
 
-void SensitivityTable(std::ostream& o, const ReportData& data, const std::string& dataset, const std::string& validation) {
+void SensitivityTable(std::ostream& o, const ReportData& data, const std::string& dataset,
+                      const std::string& validation) {
   std::vector<int> variants;
   for (size_t v = 0; v < data.variants().size(); ++v) {
     if (data.variants()[v].dataset == dataset) variants.push_back(static_cast<int>(v));
@@ -260,7 +268,8 @@ void SensitivityTable(std::ostream& o, const ReportData& data, const std::string
   Header(o, header, right);
   for (const auto& p : pairs) {
     std::vector<std::string> cells = {p.label == "before" ? "**before**" : Cell(p.label)};
-    for (int v : variants) cells.push_back(MeanSpread(data.Values(v, p.estimator, p.compensator, validation, "position_error_mean_mm")));
+    for (int v : variants)
+      cells.push_back(MeanSpread(data.Values(v, p.estimator, p.compensator, validation, "position_error_mean_mm")));
     Row(o, cells);
   }
   o << "\n";
@@ -272,8 +281,10 @@ void Times(std::ostream& o, const ReportData& data) {
   std::map<std::string, TrialValues> identify, compensate;
   std::set<std::string> items;
   for (size_t r = 0; r < t.rows.size(); ++r) {
-    if (items.insert(t.Text(r, c_item)).second) identify[t.Text(r, c_est)].Add(t.Number(r, t.Column("identify_seconds")));
-    if (t.Text(r, c_comp) != "-") compensate[t.Text(r, c_comp)].Add(t.Number(r, t.Column("compensate_seconds_per_target")));
+    if (items.insert(t.Text(r, c_item)).second)
+      identify[t.Text(r, c_est)].Add(t.Number(r, t.Column("identify_seconds")));
+    if (t.Text(r, c_comp) != "-")
+      compensate[t.Text(r, c_comp)].Add(t.Number(r, t.Column("compensate_seconds_per_target")));
   }
   o << "## Times\n\nWall-clock times on the machine that ran each work item (timings.csv; not part of the "
        "deterministic results). Mean ± standard deviation over runs.\n\n";
@@ -303,10 +314,13 @@ void SelectionTables(std::ostream& o, const ReportData& data, int variant) {
     if (data.VariantOf(t, r) != variant) continue;
     const std::string group = t.Text(r, c_est) + ", trial " + t.Text(r, c_trial);
     if (group != current) {
-      if (current.empty()) o << "### Model selection (blocked cross-validation, one-standard-error rule)\n\n";
-      else o << "\n";
+      if (current.empty())
+        o << "### Model selection (blocked cross-validation, one-standard-error rule)\n\n";
+      else
+        o << "\n";
       current = group;
-      o << "Estimator " << Cell(group) << ":\n\n| candidate | parameters | CV RMS ± se (mm) | chosen |\n|---|---|---|---|\n";
+      o << "Estimator " << Cell(group)
+        << ":\n\n| candidate | parameters | CV RMS ± se (mm) | chosen |\n|---|---|---|---|\n";
     }
     o << "| " << Cell(t.Text(r, c_cand)) << " | " << t.Text(r, t.Column("parameters")) << " | "
       << ReportNumber(t.Number(r, t.Column("cv_rms_mm"))) << " ± " << ReportNumber(t.Number(r, t.Column("se_mm")))
@@ -370,12 +384,14 @@ void WriteReport(const std::string& dir) {
                "so AP is the accuracy left after compensating with that model and RP is the arm's own.\n\n";
         }
         IsoTable(o, data, v, validation);
-        o << (var.simulated ? "Errors at P1..P5 themselves (no noise):\n\n" : "Prediction errors at every visit of those poses:\n\n");
+        o << (var.simulated ? "Errors at P1..P5 themselves (no noise):\n\n"
+                            : "Prediction errors at every visit of those poses:\n\n");
       } else {
         o << "### Validation " << Cell(validation) << "\n\n";
       }
       ErrorTable(o, data, v, validation);
-      if (!data.IsIso(validation)) Figure(o, PlotErrorDistributions(data, v, validation), "error distributions, " + var.label + ", " + validation);
+      if (!data.IsIso(validation))
+        Figure(o, PlotErrorDistributions(data, v, validation), "error distributions, " + var.label + ", " + validation);
     }
     if (!var.simulated) {
       const std::string heldout = PlotHeldoutAgainst(data, v);

@@ -32,9 +32,12 @@ std::string ReportNumber(double v) {
   if (!std::isfinite(v)) return "–";
   char buffer[48];
   if (v == 0.0) return "0";
-  if (std::abs(v) >= 1000.0) std::snprintf(buffer, sizeof(buffer), "%.0f", v);
-  else if (std::abs(v) >= 0.01) std::snprintf(buffer, sizeof(buffer), "%.3f", v);
-  else std::snprintf(buffer, sizeof(buffer), "%.2g", v);
+  if (std::abs(v) >= 1000.0)
+    std::snprintf(buffer, sizeof(buffer), "%.0f", v);
+  else if (std::abs(v) >= 0.01)
+    std::snprintf(buffer, sizeof(buffer), "%.3f", v);
+  else
+    std::snprintf(buffer, sizeof(buffer), "%.2g", v);
   return buffer;
 }
 
@@ -51,8 +54,10 @@ std::string Slug(const std::string& text) {
   std::string out;
   for (char c : text) {
     const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
-    if (keep) out += c;
-    else if (!out.empty() && out.back() != '_') out += '_';
+    if (keep)
+      out += c;
+    else if (!out.empty() && out.back() != '_')
+      out += '_';
   }
   while (!out.empty() && out.back() == '_') out.pop_back();
   return out.empty() ? "x" : out;
@@ -61,7 +66,8 @@ std::string Slug(const std::string& text) {
 ReportData::ReportData(const std::string& dir) : dir_(dir) {
   manifest_ = ReadManifest(dir);
   if (manifest_.value("shard", "1/1") != "1/1") {
-    ThrowInputError(dir + ": holds shard " + manifest_.value("shard", "") + " of a study; combine the shards with kincal merge");
+    ThrowInputError(dir + ": holds shard " + manifest_.value("shard", "") +
+                    " of a study; combine the shards with kincal merge");
   }
   tables_ = ReadStudyTables(dir);
   std::map<std::string, bool> simulated, iso;

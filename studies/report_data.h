@@ -27,20 +27,20 @@ class ReportData {
 
   struct Variant {
     std::string dataset;
-    std::string label;       // "sweep" or "sweep[noise=10um]"
-    std::string knob;        // "" when the dataset sweeps nothing
-    std::string knob_text;   // knob_value as the tables write it
+    std::string label;      // "sweep" or "sweep[noise=10um]"
+    std::string knob;       // "" when the dataset sweeps nothing
+    std::string knob_text;  // knob_value as the tables write it
     double knob_value = 0.0;
     bool simulated = true;
-    bool iso9283 = false;    // measured data scored by ISO 9283 too (validation "iso9283")
+    bool iso9283 = false;  // measured data scored by ISO 9283 too (validation "iso9283")
   };
 
   const std::string& dir() const { return dir_; }
   const nlohmann::json& manifest() const { return manifest_; }
   const StudyTables& tables() const { return tables_; }
   const std::vector<Variant>& variants() const { return variants_; }
-  std::vector<std::string> Estimators() const;     // study order, "none" first
-  std::vector<std::string> Compensators() const;   // "-" (prediction) first, then "none", then the study's
+  std::vector<std::string> Estimators() const;              // study order, "none" first
+  std::vector<std::string> Compensators() const;            // "-" (prediction) first, then "none", then the study's
   std::vector<std::string> Validations(int variant) const;  // "heldout" for measured data
   bool IsIso(const std::string& validation) const;
   int trials() const { return manifest_.value("trials", 1); }
@@ -67,9 +67,9 @@ class ReportData {
 struct ParameterSummary {
   std::string name, unit;
   double nominal = 0.0;
-  double truth = 0.0;                           // NaN for measured data
-  std::map<std::string, TrialValues> error;     // per estimator: estimate - truth (- nominal without a truth)
-  std::map<std::string, TrialValues> stddev;    // per estimator: the standard deviation it reported
+  double truth = 0.0;                         // NaN for measured data
+  std::map<std::string, TrialValues> error;   // per estimator: estimate - truth (- nominal without a truth)
+  std::map<std::string, TrialValues> stddev;  // per estimator: the standard deviation it reported
 };
 // Parameters that the truth or some estimator moved away from the nominal, in the tables' order.
 std::vector<ParameterSummary> SummarizeParameters(const ReportData& data, int variant);

@@ -87,13 +87,14 @@ std::string PlotErrorDistributions(const ReportData& data, int variant, const st
     svg::Axes axes;
     axes.title = k == 0 ? "Position error at the targets" : "Orientation error at the targets";
     axes.y_label = (k == 0 ? "position error (" : "orientation error (") + unit[k] + ")";
-    axes.note = "box: 25-75 %; bar: median; whiskers: 5-95 %; circle: largest error; quantiles averaged over " +
-                Trials(data);
+    axes.note =
+        "box: 25-75 %; bar: median; whiskers: 5-95 %; circle: largest error; quantiles averaged over " + Trials(data);
     std::vector<double> all;
     bool zero = false;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const auto q = [&](const char* stat) {
-        return data.Values(variant, pairs[i].estimator, pairs[i].compensator, validation, what[k] + "_" + stat + "_" + unit[k]);
+        return data.Values(variant, pairs[i].estimator, pairs[i].compensator, validation,
+                           what[k] + "_" + stat + "_" + unit[k]);
       };
       svg::Box box;
       box.position = static_cast<double>(axes.categories.size());
@@ -129,10 +130,11 @@ std::string PlotParameterErrors(const ReportData& data, int variant) {
     if (e != "none") estimators.push_back(e);
   }
   svg::Figure figure;
-  figure.title = std::string(truth ? "Parameter errors (identified - truth): " : "Parameter changes (identified - nominal): ") +
-                 data.variants()[variant].label;
-  const std::pair<std::string, std::string> groups[3] = {{"mm", "length parameters"}, {"deg", "angle parameters"},
-                                                         {"", "reduction ratios"}};
+  figure.title =
+      std::string(truth ? "Parameter errors (identified - truth): " : "Parameter changes (identified - nominal): ") +
+      data.variants()[variant].label;
+  const std::pair<std::string, std::string> groups[3] = {
+      {"mm", "length parameters"}, {"deg", "angle parameters"}, {"", "reduction ratios"}};
   for (const auto& [unit, title] : groups) {
     std::vector<const ParameterSummary*> mine;
     for (const auto& p : params) {
@@ -238,7 +240,8 @@ std::string PlotConvergence(const ReportData& data, int variant) {
 std::string PlotSensitivity(const ReportData& data, const std::string& dataset, const std::string& validation) {
   std::vector<int> variants;
   for (size_t v = 0; v < data.variants().size(); ++v) {
-    if (data.variants()[v].dataset == dataset && !data.variants()[v].knob.empty()) variants.push_back(static_cast<int>(v));
+    if (data.variants()[v].dataset == dataset && !data.variants()[v].knob.empty())
+      variants.push_back(static_cast<int>(v));
   }
   if (variants.empty()) return "";
   const std::string knob = data.variants()[variants.front()].knob;
@@ -327,8 +330,8 @@ std::string PlotHeldoutAgainst(const ReportData& data, int variant) {
         if (t.Text(r, estimator_col) != estimator) continue;
         const double x = t.Number(r, x_col), e = t.Number(r, error_col);
         if (!std::isfinite(x) || !std::isfinite(e)) continue;
-        const int b = std::min<int>(kBins - 1, static_cast<int>(std::upper_bound(edges.begin() + 1, edges.end() - 1, x) -
-                                                                (edges.begin() + 1)));
+        const int b = std::min<int>(
+            kBins - 1, static_cast<int>(std::upper_bound(edges.begin() + 1, edges.end() - 1, x) - (edges.begin() + 1)));
         sum2[b] += e * e;
         sum_x[b] += x;
         ++count[b];

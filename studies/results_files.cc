@@ -27,15 +27,15 @@ std::string Clean(std::string text) {
 
 std::string Format(double value, int digits = 6) { return FormatResultNumber(value, digits); }
 
-const std::vector<std::string> kKey = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "compensator",
-                                       "validation"};
+const std::vector<std::string> kKey = {"item",  "dataset",   "knob",        "knob_value",
+                                       "trial", "estimator", "compensator", "validation"};
 
 std::vector<std::string> Key(const Study& study, const std::vector<DatasetVariant>& variants, const ItemResult& r,
                              const EvaluationRow* row) {
   const DatasetVariant& v = variants[r.item.variant];
-  std::vector<std::string> key = {std::to_string(r.item.index), study.datasets[v.dataset].name, v.knob,
-                                  Format(v.knob_value), std::to_string(r.item.trial),
-                                  study.pipelines[r.item.pipeline].name};
+  std::vector<std::string> key = {
+      std::to_string(r.item.index), study.datasets[v.dataset].name, v.knob,
+      Format(v.knob_value),         std::to_string(r.item.trial),   study.pipelines[r.item.pipeline].name};
   if (row) {
     key.push_back(row->compensator);
     key.push_back(row->validation);
@@ -62,7 +62,8 @@ std::vector<std::string> SummaryColumns(const std::string& prefix, const std::st
 
 int ItemOf(const ResultTable& t, size_t row, const std::string& source) {
   double v = t.Number(row, 0);
-  if (!std::isfinite(v) || v < 0 || v != std::floor(v)) ThrowInputError(source + ": bad item index '" + t.Text(row, 0) + "'");
+  if (!std::isfinite(v) || v < 0 || v != std::floor(v))
+    ThrowInputError(source + ": bad item index '" + t.Text(row, 0) + "'");
   return static_cast<int>(v);
 }
 
@@ -120,14 +121,15 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
   t.results.header = Concat(t.results.header, SummaryColumns("orientation_error", "deg"));
   t.results.header = Concat(t.results.header, {"estimation_status", "status", "note"});
   t.timings.header = Concat(kKey, {"identify_seconds", "compensate_seconds_per_target"});
-  t.parameters.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "parameter", "unit",
-                         "nominal", "estimate", "stddev", "truth", "error"};
+  t.parameters.header = {"item", "dataset", "knob",     "knob_value", "trial", "estimator", "parameter",
+                         "unit", "nominal", "estimate", "stddev",     "truth", "error"};
   t.convergence.header = Concat(kKey, {"iteration", "position_error_median_mm", "position_error_max_mm",
                                        "orientation_error_median_deg", "orientation_error_max_deg", "active_targets"});
-  t.heldout.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "row", "marker", "reach_mm",
-                      "approach_speed_deg_s", "error_mm", "sd_mm", "outside_support"};
-  t.selection.header = {"item", "dataset", "knob", "knob_value", "trial", "estimator", "candidate", "parameters",
-                        "cv_rms_mm", "se_mm", "chosen"};
+  t.heldout.header = {"item",      "dataset", "knob",           "knob_value", "trial",
+                      "estimator", "row",     "marker",         "reach_mm",   "approach_speed_deg_s",
+                      "error_mm",  "sd_mm",   "outside_support"};
+  t.selection.header = {"item",      "dataset",    "knob",      "knob_value", "trial", "estimator",
+                        "candidate", "parameters", "cv_rms_mm", "se_mm",      "chosen"};
   t.iso9283.header = Concat(kKey, {"pose", "cycles", "AP_P_mm", "AP_a_deg", "AP_b_deg", "AP_c_deg", "RP_l_mm",
                                    "RP_a_deg", "RP_b_deg", "RP_c_deg"});
   const double mm = 1e3, deg = 180.0 / M_PI;
@@ -154,20 +156,21 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
       for (const IsoPoseResult& p : row.iso) {
         const Iso9283PoseStats& s = p.stats;
         t.iso9283.rows.push_back(Concat(
-            key, {"P" + std::to_string(p.pose), std::to_string(s.cycles), Format(s.ap_p * mm), Format(s.ap_abc[0] * deg),
-                  Format(s.ap_abc[1] * deg), Format(s.ap_abc[2] * deg), Format(s.rp_l * mm), Format(s.rp_abc[0] * deg),
-                  Format(s.rp_abc[1] * deg), Format(s.rp_abc[2] * deg)}));
+            key, {"P" + std::to_string(p.pose), std::to_string(s.cycles), Format(s.ap_p * mm),
+                  Format(s.ap_abc[0] * deg), Format(s.ap_abc[1] * deg), Format(s.ap_abc[2] * deg), Format(s.rp_l * mm),
+                  Format(s.rp_abc[0] * deg), Format(s.rp_abc[1] * deg), Format(s.rp_abc[2] * deg)}));
       }
     }
     for (const HeldoutPoint& h : r->heldout) {
-      t.heldout.rows.push_back(Concat(Key(study, variants, *r, nullptr),
-                                      {std::to_string(h.row), h.marker, Format(h.reach * mm), Format(h.approach_speed * deg),
-                                       Format(h.error * mm), Format(h.sd * mm), h.outside_support ? "1" : "0"}));
+      t.heldout.rows.push_back(
+          Concat(Key(study, variants, *r, nullptr),
+                 {std::to_string(h.row), h.marker, Format(h.reach * mm), Format(h.approach_speed * deg),
+                  Format(h.error * mm), Format(h.sd * mm), h.outside_support ? "1" : "0"}));
     }
     for (const SelectionRow& c : r->selection) {
-      t.selection.rows.push_back(Concat(Key(study, variants, *r, nullptr),
-                                        {c.candidate, std::to_string(c.parameters), Format(c.cv_rms * mm),
-                                         Format(c.se * mm), c.chosen ? "1" : "0"}));
+      t.selection.rows.push_back(Concat(
+          Key(study, variants, *r, nullptr),
+          {c.candidate, std::to_string(c.parameters), Format(c.cv_rms * mm), Format(c.se * mm), c.chosen ? "1" : "0"}));
     }
     for (const ParameterRow& p : r->parameters) {
       t.parameters.rows.push_back(Concat(Key(study, variants, *r, nullptr),
@@ -185,7 +188,8 @@ void WriteStudyFiles(const std::string& dir, const nlohmann::json& manifest, con
   m["shard"] = shard;
   WriteFileAtomically(dir + "/study.json", m.dump(2) + "\n");
   const auto all = tables.All();
-  for (int i = 0; i < StudyTables::kCount; ++i) WriteFileAtomically(dir + "/" + kStudyTableFiles[i], TableToCsv(*all[i]));
+  for (int i = 0; i < StudyTables::kCount; ++i)
+    WriteFileAtomically(dir + "/" + kStudyTableFiles[i], TableToCsv(*all[i]));
 }
 
 nlohmann::json ReadManifest(const std::string& dir) {
@@ -250,7 +254,8 @@ void MergeShards(const std::vector<std::string>& dirs, const std::string& out) {
         if (f == 0) here.insert(item);
       }
       for (int item : here) {
-        if (!items.insert(item).second) ThrowInputError("merge: work item " + std::to_string(item) + " is in two shards");
+        if (!items.insert(item).second)
+          ThrowInputError("merge: work item " + std::to_string(item) + " is in two shards");
       }
     }
   }

@@ -26,7 +26,8 @@ bool StudyRunOptions::IsValid(std::string* why) const {
   };
   if (threads < 0) return fail("threads must be >= 0");
   if (shard_count < 1 || shard_index < 1 || shard_index > shard_count) {
-    return fail("shard must be i/N with 1 <= i <= N, got " + std::to_string(shard_index) + "/" + std::to_string(shard_count));
+    return fail("shard must be i/N with 1 <= i <= N, got " + std::to_string(shard_index) + "/" +
+                std::to_string(shard_count));
   }
   return true;
 }
@@ -41,56 +42,16 @@ void ParseShard(const std::string& text, int* index, int* count) {
   *count = n;
 }
 
-StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const StudyRunOptions& options,
-                         const MethodRegistries& registries) {
-  std::string why;
-  if (!options.IsValid(&why)) ThrowInputError("study: " + why);
-  const auto t0 = std::chrono::steady_clock::now();
-  const StudyEvaluator evaluator(study, registries);
-  const int num_items = static_cast<int>(evaluator.items().size());
+namespace {
 
-  std::vector<WorkItem> mine;
-  for (const WorkItem& w : evaluator.items()) {
-    if (w.index % options.shard_count == options.shard_index - 1) mine.push_back(w);
-  }
-  std::unique_ptr<StudyJournal> journal;
-  if (options.journal) {
-    journal = std::make_unique<StudyJournal>(
-        out_dir, StudyFingerprint(study, options.shard_index, options.shard_count), num_items);
-  }
-  // Each item's rows of the five tables, in the order of `mine`: from the journal or computed now.
-  std::vector<StudyTables> rows(mine.size());
-  std::vector<size_t> todo;
-  StudyRunSummary summary;
-  for (size_t k = 0; k < mine.size(); ++k) {
-    const auto recorded = journal ? journal->recorded().find(mine[k].index) : std::map<int, StudyTables>::const_iterator();
-    if (journal && recorded != journal->recorded().end()) {
-      rows[k] = recorded->second;
-      ++summary.items_resumed;
-    } else {
-      todo.push_back(k);
-    }
-  }
-  if (journal && summary.items_resumed != static_cast<int>(journal->recorded().size())) {
-    ThrowInputError(journal->path() + ": holds work items that are not in shard " + std::to_string(options.shard_index) +
-                    "/" + std::to_string(options.shard_count));
-  }
-
-  int threads = options.threads > 0 ? options.threads : study.threads;
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(todo.size())));
-
-  std::string what = "work items";
-  if (options.shard_count > 1) what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
-  if (options.progress && summary.items_resumed > 0) {
-    *options.progress << "resuming: " << summary.items_resumed << " of " << mine.size() << " " << what
-                      << " already done (" << journal->path() << ")\n";
-  }
-  if (options.progress && journal && journal->discarded_bytes() > 0) {
-    *options.progress << "discarded the torn last record of " << journal->path() << " (" << journal->discarded_bytes()
-                      << " bytes): that item runs again\n";
-  }
-  ProgressReporter progress(options.progress, options.interactive, static_cast<int>(todo.size()), what);
+// Runs the work items mine[todo[k]] on `threads` threads (the caller's among them), each item's rows into
+// (*rows)[todo[k]] and the journal as it finishes; stops taking items when a stop is requested (*stopped)
+// or an item fails, whose exception is rethrown once every thread has ended. Returns the items finished.
+int RunItems(const Study& study, const StudyEvaluator& evaluator, const std::vector<WorkItem>& mine,
+             const std::vector<size_t>& todo, int threads, const StudyRunOptions& options, StudyJournal* journal,
+             ProgressReporter* reporter, std::vector<StudyTables>* rows_out, bool* stopped_out) {
+  std::vector<StudyTables>& rows = *rows_out;
+  ProgressReporter& progress = *reporter;
   std::atomic<size_t> next{0};
   std::atomic<int> finished{0};
   std::atomic<bool> stopped{false};
@@ -124,6 +85,67 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   for (auto& t : pool) t.join();
   progress.Finish();
   if (failure) std::rethrow_exception(failure);
+  *stopped_out = stopped;
+  return finished;
+}
+
+}  // namespace
+
+StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const StudyRunOptions& options,
+                         const MethodRegistries& registries) {
+  std::string why;
+  if (!options.IsValid(&why)) ThrowInputError("study: " + why);
+  const auto t0 = std::chrono::steady_clock::now();
+  const StudyEvaluator evaluator(study, registries);
+  const int num_items = static_cast<int>(evaluator.items().size());
+
+  std::vector<WorkItem> mine;
+  for (const WorkItem& w : evaluator.items()) {
+    if (w.index % options.shard_count == options.shard_index - 1) mine.push_back(w);
+  }
+  std::unique_ptr<StudyJournal> journal;
+  if (options.journal) {
+    journal = std::make_unique<StudyJournal>(out_dir, StudyFingerprint(study, options.shard_index, options.shard_count),
+                                             num_items);
+  }
+  // Each item's rows of the five tables, in the order of `mine`: from the journal or computed now.
+  std::vector<StudyTables> rows(mine.size());
+  std::vector<size_t> todo;
+  StudyRunSummary summary;
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const auto recorded =
+        journal ? journal->recorded().find(mine[k].index) : std::map<int, StudyTables>::const_iterator();
+    if (journal && recorded != journal->recorded().end()) {
+      rows[k] = recorded->second;
+      ++summary.items_resumed;
+    } else {
+      todo.push_back(k);
+    }
+  }
+  if (journal && summary.items_resumed != static_cast<int>(journal->recorded().size())) {
+    ThrowInputError(journal->path() + ": holds work items that are not in shard " +
+                    std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count));
+  }
+
+  int threads = options.threads > 0 ? options.threads : study.threads;
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(todo.size())));
+
+  std::string what = "work items";
+  if (options.shard_count > 1)
+    what += " of shard " + std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
+  if (options.progress && summary.items_resumed > 0) {
+    *options.progress << "resuming: " << summary.items_resumed << " of " << mine.size() << " " << what
+                      << " already done (" << journal->path() << ")\n";
+  }
+  if (options.progress && journal && journal->discarded_bytes() > 0) {
+    *options.progress << "discarded the torn last record of " << journal->path() << " (" << journal->discarded_bytes()
+                      << " bytes): that item runs again\n";
+  }
+  ProgressReporter progress(options.progress, options.interactive, static_cast<int>(todo.size()), what);
+  bool stopped = false;
+  const int finished =
+      RunItems(study, evaluator, mine, todo, threads, options, journal.get(), &progress, &rows, &stopped);
 
   summary.items_total = num_items;
   summary.items_run = static_cast<int>(mine.size());
@@ -142,8 +164,8 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
       }
     }
     const nlohmann::json manifest = StudyManifest(study, evaluator.variants(), num_items);
-    WriteStudyFiles(out_dir, manifest,
-                    std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count), tables);
+    WriteStudyFiles(out_dir, manifest, std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count),
+                    tables);
     if (options.shard_count == 1 && options.write_report) WriteReport(out_dir);
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -11,13 +11,13 @@
 namespace kincal {
 
 struct StudyRunOptions {
-  int threads = 0;           // 0: the study's `threads`, else every core
-  int shard_index = 1;       // 1-based; items with index % shard_count == shard_index - 1 run
+  int threads = 0;      // 0: the study's `threads`, else every core
+  int shard_index = 1;  // 1-based; items with index % shard_count == shard_index - 1 run
   int shard_count = 1;
   std::ostream* progress = nullptr;  // null: silent
-  bool interactive = false;  // progress as a bar redrawn in place (stderr is a terminal)
-  bool write_report = true;  // whole studies only; shards are reported by `kincal merge`
-  // Resumable runs (issue 13, studies/journal.h): every finished item is recorded in
+  bool interactive = false;          // progress as a bar redrawn in place (stderr is a terminal)
+  bool write_report = true;          // whole studies only; shards are reported by `kincal merge`
+  // Resumable runs (studies/journal.h): every finished item is recorded in
   // out_dir/study.journal; a run on a folder with a journal of the same study and shard runs only the
   // items it lacks. A journal of another study is refused. false: no journal is read or written.
   bool journal = true;
@@ -30,11 +30,11 @@ struct StudyRunOptions {
 
 struct StudyRunSummary {
   int items_total = 0;
-  int items_run = 0;          // this shard's items, including those taken from the journal
-  int items_resumed = 0;      // taken from the journal of an earlier run
-  int items_finished = 0;     // finished in this run
+  int items_run = 0;                 // this shard's items, including those taken from the journal
+  int items_resumed = 0;             // taken from the journal of an earlier run
+  int items_finished = 0;            // finished in this run
   long journal_discarded_bytes = 0;  // a torn last record of an earlier run, discarded
-  bool stopped = false;       // stop_requested: results not written; run again to continue
+  bool stopped = false;              // stop_requested: results not written; run again to continue
   int threads = 0;
   double seconds = 0.0;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Study: a comparison of calibration methods described in one YAML file (issue 6, DESIGN.md data flow).
+// Study: a comparison of calibration methods described in one YAML file (DESIGN.md data flow).
 // Datasets x estimator pipelines x compensators x Monte Carlo trials, every combination scored by the
 // same metrics on the same validation targets.
 //
@@ -99,24 +99,24 @@ struct RobotSpec {
 
 // A knob a dataset sweeps for sensitivity curves.
 struct KnobSweep {
-  std::string knob;                 // noise, noise_range, poses, stops, step, arc
-  std::vector<double> values;       // SI (m, m/m, count, rad)
-  std::vector<std::string> texts;   // as written in the study file
+  std::string knob;                // noise, noise_range, poses, stops, step, arc
+  std::vector<double> values;      // SI (m, m/m, count, rad)
+  std::vector<std::string> texts;  // as written in the study file
 };
 
 struct DatasetSpec {
   enum class Split { kColumn, kFraction, kEvery };
   std::string name;
   bool simulated = true;
-  SimulatorOptions simulator;       // simulated; its seed is set per trial
+  SimulatorOptions simulator;             // simulated; its seed is set per trial
   std::optional<Eigen::Vector3d> marker;  // m, tool position override
   std::optional<KnobSweep> vary;
-  std::string file;                 // measured: resolved path (CSV dataset, or the joints table)
+  std::string file;  // measured: resolved path (CSV dataset, or the joints table)
   std::string file_as_written;
   // Measured from tables (`tables:`): `file` is the joints table; one position table per marker.
   bool tables = false;
   std::vector<std::pair<std::string, std::string>> position_tables;  // marker -> resolved path
-  std::string sequence_table;       // resolved path of the unfiltered joint readings, "" if none (pose_tables.h)
+  std::string sequence_table;  // resolved path of the unfiltered joint readings, "" if none (pose_tables.h)
   Unit table_length_unit = {"mm", 1e-3};
   Unit table_angle_unit = {"deg", M_PI / 180.0};
   Split split = Split::kColumn;
@@ -128,7 +128,7 @@ struct DatasetSpec {
   double iso_tolerance = 0.2e-3;                    // m
   double iso_angle_tolerance = 0.1 * M_PI / 180.0;  // rad
   int iso_min_cycles = 2;
-  std::string summary;              // one line for the report
+  std::string summary;  // one line for the report
 };
 
 struct PipelineSpec {
@@ -146,18 +146,18 @@ struct CompensatorSpec {
 };
 
 struct Iso9283Spec {
-  double side = 0.2;                      // m
-  Eigen::VectorXd center_configuration;   // rad; empty = searched
+  double side = 0.2;                     // m
+  Eigen::VectorXd center_configuration;  // rad; empty = searched
   int cycles = 30;
   double joint_noise = 0.001 * M_PI / 180.0;  // rad
-  double measurement_noise = 0.0;         // m
+  double measurement_noise = 0.0;             // m
 };
 
 struct ValidationSpec {
   enum class Kind { kRandom, kIso9283 };
   std::string name;
   Kind kind = Kind::kRandom;
-  int count = 0;                          // random targets
+  int count = 0;  // random targets
   bool orientation = true;
   std::vector<std::pair<double, double>> joint_limits;  // rad; empty = the nominal robot's
   Iso9283Spec iso;
@@ -167,21 +167,21 @@ struct ValidationSpec {
 struct Study {
   std::string name;
   std::string description;
-  std::string source;                     // the study file, for messages
-  uint64_t text_hash = 0;                 // HashLabel of the study file's text (journal fingerprints)
+  std::string source;      // the study file, for messages
+  uint64_t text_hash = 0;  // HashLabel of the study file's text (journal fingerprints)
   uint64_t seed = 1;
   int trials = 1;
   int threads = 0;
   RobotSpec nominal;
   std::optional<RobotSpec> truth;
   std::vector<DatasetSpec> datasets;
-  std::vector<PipelineSpec> pipelines;    // pipelines[0] is the baseline `none`
+  std::vector<PipelineSpec> pipelines;        // pipelines[0] is the baseline `none`
   std::vector<CompensatorSpec> compensators;  // compensators[0] is the baseline `none`
   std::vector<ValidationSpec> validation;
 };
 
 // Parses a study. Throws std::invalid_argument "file:line:col: key: what" on any problem, including
-// unknown or unavailable methods and invalid method options (each is created once here to check).
+// unknown methods and invalid method options (each is created once here to check).
 Study ParseStudy(const std::string& text, const std::string& source_path,
                  const MethodRegistries& registries = MethodRegistries());
 Study ReadStudyFile(const std::string& path, const MethodRegistries& registries = MethodRegistries());
@@ -190,12 +190,12 @@ Study ReadStudyFile(const std::string& path, const MethodRegistries& registries 
 
 // One dataset as simulated with one value of its swept knob (or the dataset itself when it sweeps none).
 struct DatasetVariant {
-  int dataset = 0;                  // index in Study::datasets
-  int variant = 0;                  // index in the knob's values, 0 without a sweep
-  std::string knob;                 // "" or the knob with its display unit: noise_um, poses, step_deg, ...
-  double knob_value = NAN;          // in the display unit
-  std::string label;                // "sweep" or "sweep[noise=10um]"
-  SimulatorOptions simulator;       // with the knob applied
+  int dataset = 0;             // index in Study::datasets
+  int variant = 0;             // index in the knob's values, 0 without a sweep
+  std::string knob;            // "" or the knob with its display unit: noise_um, poses, step_deg, ...
+  double knob_value = NAN;     // in the display unit
+  std::string label;           // "sweep" or "sweep[noise=10um]"
+  SimulatorOptions simulator;  // with the knob applied
 };
 std::vector<DatasetVariant> Variants(const Study& study);
 
@@ -203,7 +203,7 @@ std::vector<DatasetVariant> Variants(const Study& study);
 // variant, then every compensator and validation set on the result.
 struct WorkItem {
   int index = 0;
-  int variant = 0;                  // index in Variants()
+  int variant = 0;  // index in Variants()
   int trial = 0;
   int pipeline = 0;
 };

@@ -1,5 +1,6 @@
 // Study file parser (the schema is documented in study.h and examples/studies/). Every error names the
-// key by its path in the file ("datasets[2].simulate.noise") with the line and column.
+// key by its path in the file ("datasets[2].simulate.noise") with the line and column. Over 600 lines on
+// purpose: one reader per section of one schema, sharing the Reader and its key paths.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -205,8 +206,8 @@ void ReadSimulator(const Reader& r, const YAML::Node& node, const std::string& k
   d->summary += text;
   if (o.orientation) d->summary += ", with orientation";
   if (d->marker) {
-    std::snprintf(text, sizeof(text), ", marker at [%.4g, %.4g, %.4g] mm", (*d->marker)[0] * 1e3,
-                  (*d->marker)[1] * 1e3, (*d->marker)[2] * 1e3);
+    std::snprintf(text, sizeof(text), ", marker at [%.4g, %.4g, %.4g] mm", (*d->marker)[0] * 1e3, (*d->marker)[1] * 1e3,
+                  (*d->marker)[2] * 1e3);
     d->summary += text;
   }
 }
@@ -227,17 +228,22 @@ void ReadVary(const Reader& r, const YAML::Node& node, const std::string& key, D
   for (size_t i = 0; i < kv.second.size(); ++i) {
     const YAML::Node v = kv.second[i];
     const std::string ki = k + "[" + std::to_string(i) + "]";
-    if (s.knob == "noise" || s.knob == "noise_range") s.values.push_back(r.Length(v, ki));
-    else if (s.knob == "poses") s.values.push_back(r.Integer(v, ki, 1));
-    else if (s.knob == "stops") s.values.push_back(r.Integer(v, ki, 2));
-    else s.values.push_back(r.Number(v, ki) * M_PI / 180.0);
+    if (s.knob == "noise" || s.knob == "noise_range")
+      s.values.push_back(r.Length(v, ki));
+    else if (s.knob == "poses")
+      s.values.push_back(r.Integer(v, ki, 1));
+    else if (s.knob == "stops")
+      s.values.push_back(r.Integer(v, ki, 2));
+    else
+      s.values.push_back(r.Number(v, ki) * M_PI / 180.0);
     s.texts.push_back(v.Scalar());
   }
   const std::string& protocol = d->simulator.protocol;
   if ((s.knob == "stops" || s.knob == "step" || s.knob == "arc") && protocol != "sweep") {
     r.Fail(kv.first, k, "this knob needs the sweep protocol");
   }
-  if (s.knob == "poses" && protocol != "random") r.Fail(kv.first, k, "this knob needs the random protocol (sweeps: stops)");
+  if (s.knob == "poses" && protocol != "random")
+    r.Fail(kv.first, k, "this knob needs the random protocol (sweeps: stops)");
   d->vary = s;
 }
 
@@ -245,7 +251,9 @@ void ReadVary(const Reader& r, const YAML::Node& node, const std::string& key, D
 void ReadSplit(const Reader& r, const YAML::Node& node, const std::string& key, DatasetSpec* d) {
   const std::string sk = key + ".split";
   if (!node["split"] || (node["split"].IsScalar() && node["split"].Scalar() == "column")) {
-    if (d->tables) r.Fail(node["tables"], key + ".tables", "tables have no split column: give split: {every: N} or {test_fraction: F}");
+    if (d->tables)
+      r.Fail(node["tables"], key + ".tables",
+             "tables have no split column: give split: {every: N} or {test_fraction: F}");
     d->split = DatasetSpec::Split::kColumn;
     d->summary += ", test rows from its split column";
     return;
@@ -310,8 +318,9 @@ void ReadTables(const Reader& r, const YAML::Node& node, const std::string& key,
   }
   d->summary = "measured: tables " + d->file_as_written + " (joints, " + d->table_angle_unit.name + ") and " +
                std::to_string(d->position_tables.size()) + " marker table(s) (" + d->table_length_unit.name + ")" +
-               (d->sequence_table.empty() ? "" : ", previous poses from the unfiltered sequence " +
-                                                     r.String(node["sequence"], key + ".sequence"));
+               (d->sequence_table.empty()
+                    ? ""
+                    : ", previous poses from the unfiltered sequence " + r.String(node["sequence"], key + ".sequence"));
 }
 
 DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::string& key, int dof) {
@@ -324,7 +333,8 @@ DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::
   }
   if (node["simulate"]) {
     ReadSimulator(r, node["simulate"], key + ".simulate", dof, &d);
-    if (node["split"]) r.Fail(node["split"], key + ".split", "a split applies to measured data ('file', 'tables') only");
+    if (node["split"])
+      r.Fail(node["split"], key + ".split", "a split applies to measured data ('file', 'tables') only");
     if (node["iso9283"]) r.Fail(node["iso9283"], key + ".iso9283", "on simulated data, ISO 9283 is a validation set");
     if (node["vary"]) ReadVary(r, node["vary"], key + ".vary", &d);
     return d;
@@ -347,8 +357,10 @@ DatasetSpec ReadDatasetSpec(const Reader& r, const YAML::Node& node, const std::
     if (!iso.IsNull()) r.CheckKeys(iso, ik, {"tolerance", "angle_tolerance", "min_cycles"});
     if (iso["tolerance"]) d.iso_tolerance = r.Length(iso["tolerance"], ik + ".tolerance");
     if (!(d.iso_tolerance > 0)) r.Fail(iso["tolerance"], ik + ".tolerance", "expected a length > 0");
-    if (iso["angle_tolerance"]) d.iso_angle_tolerance = r.Number(iso["angle_tolerance"], ik + ".angle_tolerance") * M_PI / 180.0;
-    if (!(d.iso_angle_tolerance > 0)) r.Fail(iso["angle_tolerance"], ik + ".angle_tolerance", "expected an angle > 0 (deg)");
+    if (iso["angle_tolerance"])
+      d.iso_angle_tolerance = r.Number(iso["angle_tolerance"], ik + ".angle_tolerance") * M_PI / 180.0;
+    if (!(d.iso_angle_tolerance > 0))
+      r.Fail(iso["angle_tolerance"], ik + ".angle_tolerance", "expected an angle > 0 (deg)");
     if (iso["min_cycles"]) d.iso_min_cycles = r.Integer(iso["min_cycles"], ik + ".min_cycles", 2);
     d.summary += ", ISO 9283 of the test rows' poses visited at least " + std::to_string(d.iso_min_cycles) + " times";
   }
@@ -366,7 +378,9 @@ bool KeyedByMethod(const YAML::Node& options, const std::vector<std::string>& me
 
 YAML::Node MethodOptions(const YAML::Node& options, const std::vector<std::string>& methods, size_t i) {
   if (!options || options.IsNull()) return YAML::Node();
-  return KeyedByMethod(options, methods) ? options[methods[i]] : options;
+  if (!KeyedByMethod(options, methods)) return options;
+  const YAML::Node n = options[methods[i]];  // missing: an invalid node, which later uses throw on
+  return n.IsDefined() ? n : YAML::Node();
 }
 
 // Creates the method once so that unknown options fail here, at their line.
@@ -478,7 +492,8 @@ ValidationSpec ReadValidation(const Reader& r, const YAML::Node& node, const std
       if (static_cast<int>(l.size()) != n) r.Fail(l, lk, "expected " + std::to_string(n) + " [min, max] pairs (deg)");
       for (int j = 0; j < n; ++j) {
         const std::vector<double> mm = r.Numbers(l[j], lk + "[" + std::to_string(j) + "]");
-        if (mm.size() != 2 || !(mm[0] <= mm[1])) r.Fail(l[j], lk + "[" + std::to_string(j) + "]", "expected [min, max] with min <= max");
+        if (mm.size() != 2 || !(mm[0] <= mm[1]))
+          r.Fail(l[j], lk + "[" + std::to_string(j) + "]", "expected [min, max] with min <= max");
         v.joint_limits.emplace_back(mm[0] * M_PI / 180.0, mm[1] * M_PI / 180.0);
       }
     }
@@ -528,9 +543,11 @@ Study ParseStudy(const std::string& text, const std::string& source_path, const 
     ThrowInputError(source_path, e.mark.line + 1, e.mark.column + 1, "invalid YAML: " + e.msg);
   }
   const YAML::Node root = loaded;  // const: operator[] looks up, never inserts
-  if (!root.IsMap()) ThrowInputError(source_path, 1, 1, "expected a study (a YAML map with name, robots, datasets, ...)");
-  r.CheckKeys(root, "", {"name", "description", "seed", "trials", "threads", "robots", "datasets", "estimators",
-                         "compensators", "validation"});
+  if (!root.IsMap())
+    ThrowInputError(source_path, 1, 1, "expected a study (a YAML map with name, robots, datasets, ...)");
+  r.CheckKeys(root, "",
+              {"name", "description", "seed", "trials", "threads", "robots", "datasets", "estimators", "compensators",
+               "validation"});
   Study s;
   s.source = source_path;
   s.text_hash = HashLabel(text);
@@ -553,8 +570,9 @@ Study ParseStudy(const std::string& text, const std::string& source_path, const 
   if (robots["truth"]) {
     s.truth = ReadRobot(r, robots["truth"], "robots.truth", source_path);
     if (s.truth->robot.dof() != s.nominal.robot.dof()) {
-      r.Fail(robots["truth"], "robots.truth", "has " + std::to_string(s.truth->robot.dof()) + " joints, the nominal " +
-                                                  std::to_string(s.nominal.robot.dof()));
+      r.Fail(robots["truth"], "robots.truth",
+             "has " + std::to_string(s.truth->robot.dof()) + " joints, the nominal " +
+                 std::to_string(s.nominal.robot.dof()));
     }
     if (s.truth->robot.drives.has_value() != s.nominal.robot.drives.has_value()) {
       r.Fail(robots["truth"], "robots.truth", "give drives in both robots or in neither");
@@ -585,7 +603,8 @@ Study ParseStudy(const std::string& text, const std::string& source_path, const 
       PipelineSpec p = ReadPipeline(r, node, key, *registries.estimators);
       for (size_t k = 0; k < p.datasets.size(); ++k) {
         if (!names.count(p.datasets[k])) {
-          r.Fail(node["datasets"][k], key + ".datasets[" + std::to_string(k) + "]", "unknown dataset '" + p.datasets[k] + "'");
+          r.Fail(node["datasets"][k], key + ".datasets[" + std::to_string(k) + "]",
+                 "unknown dataset '" + p.datasets[k] + "'");
         }
       }
       if (p.name == "none" && p.methods == std::vector<std::string>{"none"}) continue;  // the baseline runs anyway
@@ -619,15 +638,17 @@ Study ParseStudy(const std::string& text, const std::string& source_path, const 
       const std::string key = "validation[" + std::to_string(i) + "]";
       const YAML::Node node = root["validation"][i];
       ValidationSpec v = ReadValidation(r, node, key, s.nominal.robot);
-      if (!vnames.insert(v.name).second) r.Fail(node["name"], key + ".name", "duplicate validation name '" + v.name + "'");
+      if (!vnames.insert(v.name).second)
+        r.Fail(node["name"], key + ".name", "duplicate validation name '" + v.name + "'");
       s.validation.push_back(std::move(v));
     }
   }
   bool any_simulated = false;
   for (const auto& d : s.datasets) any_simulated |= d.simulated;
   if (any_simulated && s.validation.empty()) {
-    r.Fail(root, "validation", "missing key: simulated datasets are scored on validation targets (e.g. "
-                               "validation: [{name: random, random_targets: 100}])");
+    r.Fail(root, "validation",
+           "missing key: simulated datasets are scored on validation targets (e.g. "
+           "validation: [{name: random, random_targets: 100}])");
   }
   return s;
 }

@@ -114,12 +114,16 @@ nlohmann::json StudyManifest(const Study& study, const std::vector<DatasetVarian
   }
   j["variants"] = nlohmann::json::array();
   for (const auto& v : variants) {
-    j["variants"].push_back({{"dataset", study.datasets[v.dataset].name}, {"label", v.label}, {"knob", v.knob},
-                             {"knob_value", std::isnan(v.knob_value) ? nlohmann::json(nullptr) : nlohmann::json(v.knob_value)}});
+    j["variants"].push_back(
+        {{"dataset", study.datasets[v.dataset].name},
+         {"label", v.label},
+         {"knob", v.knob},
+         {"knob_value", std::isnan(v.knob_value) ? nlohmann::json(nullptr) : nlohmann::json(v.knob_value)}});
   }
   j["estimators"] = nlohmann::json::array();
   for (const auto& p : study.pipelines) {
-    j["estimators"].push_back({{"name", p.name}, {"methods", p.methods}, {"options", p.options_yaml}, {"datasets", p.datasets}});
+    j["estimators"].push_back(
+        {{"name", p.name}, {"methods", p.methods}, {"options", p.options_yaml}, {"datasets", p.datasets}});
   }
   j["compensators"] = nlohmann::json::array();
   for (const auto& c : study.compensators) {
@@ -127,7 +131,8 @@ nlohmann::json StudyManifest(const Study& study, const std::vector<DatasetVarian
   }
   j["validation"] = nlohmann::json::array();
   for (const auto& v : study.validation) {
-    j["validation"].push_back({{"name", v.name}, {"kind", v.kind == ValidationSpec::Kind::kIso9283 ? "iso9283" : "random"},
+    j["validation"].push_back({{"name", v.name},
+                               {"kind", v.kind == ValidationSpec::Kind::kIso9283 ? "iso9283" : "random"},
                                {"summary", v.summary}});
   }
   return j;

@@ -13,18 +13,27 @@ const char* const kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E6
 constexpr int kColours = 8;
 constexpr int kShapes = 5;
 const char* const kDashes[] = {"", "7 3", "2 2"};
-constexpr double kCharWidth = 6.4;   // of 11 px sans-serif text, for layout estimates
+constexpr double kCharWidth = 6.4;  // of 11 px sans-serif text, for layout estimates
 constexpr double kPlotHeight = 280.0;
 
 std::string Escape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -37,8 +46,8 @@ std::string Num(double v) {
 }
 
 struct Scale {
-  double lo = 0.0, hi = 1.0;      // data range shown (for log axes, log10 of it)
-  double from = 0.0, to = 1.0;    // pixels
+  double lo = 0.0, hi = 1.0;    // data range shown (for log axes, log10 of it)
+  double from = 0.0, to = 1.0;  // pixels
   bool log = false;
   double operator()(double v) const {
     const double t = log ? std::log10(v) : v;
@@ -181,7 +190,9 @@ void Marker(std::ostream& o, double x, double y, const Style& st) {
   const std::string paint = " fill=\"" + fill + "\" stroke=\"" + st.colour + "\" stroke-width=\"1.3\"/>\n";
   const double r = 3.6;
   switch (st.shape) {
-    case 0: o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"" << Num(r) << "\"" << paint; break;
+    case 0:
+      o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"" << Num(r) << "\"" << paint;
+      break;
     case 1:
       o << "<rect x=\"" << Num(x - r) << "\" y=\"" << Num(y - r) << "\" width=\"" << Num(2 * r) << "\" height=\""
         << Num(2 * r) << "\"" << paint;
@@ -216,7 +227,7 @@ void TickLabel(std::ostream& o, double x, double y, const Tick& t, const std::st
 struct PanelLayout {
   double title_height = 0.0;
   double plot_height = kPlotHeight;
-  double bottom = 0.0;           // x tick labels, x label, note
+  double bottom = 0.0;  // x tick labels, x label, note
   bool rotate_categories = false;
   double Height() const { return title_height + plot_height + bottom; }
 };
@@ -289,6 +300,164 @@ std::string FormatTick(double value, double step) {
   return buffer;
 }
 
+// Grid, zero line, frame, ticks and their labels, axis labels and the panel's note.
+static void DrawAxes(std::ostream& o, const Axes& a, const PanelLayout& l, const Scale& sx, const Scale& sy,
+                     const std::vector<Tick>& xticks, const std::vector<Tick>& yticks, double x0, double x1, double y0,
+                     double y1, double note_width) {
+  // Grid, frame, ticks.
+  o << "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
+  for (const auto& t : yticks) {
+    if (t.label.empty() && !a.log_y) continue;
+    const double y = sy(t.value);
+    if (y < y0 - 0.5 || y > y1 + 0.5) continue;
+    o << "<line x1=\"" << Num(x0) << "\" y1=\"" << Num(y) << "\" x2=\"" << Num(x1) << "\" y2=\"" << Num(y) << "\""
+      << (t.label.empty() ? " stroke=\"#f2f2f2\"" : "") << "/>\n";
+  }
+  if (a.categories.empty()) {
+    for (const auto& t : xticks) {
+      if (t.label.empty()) continue;
+      const double x = sx(t.value);
+      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y0) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1)
+        << "\"/>\n";
+    }
+  }
+  o << "</g>\n";
+  if (a.zero_line && !a.log_y && sy.lo < 0.0 && sy.hi > 0.0) {
+    o << "<line x1=\"" << Num(x0) << "\" y1=\"" << Num(sy(0.0)) << "\" x2=\"" << Num(x1) << "\" y2=\"" << Num(sy(0.0))
+      << "\" stroke=\"#555555\" stroke-width=\"1\"/>\n";
+  }
+  o << "<rect x=\"" << Num(x0) << "\" y=\"" << Num(y0) << "\" width=\"" << Num(x1 - x0) << "\" height=\""
+    << Num(y1 - y0) << "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
+  double widest_ytick = 0.0;
+  for (const auto& t : yticks) {
+    const double y = sy(t.value);
+    if (y < y0 - 0.5 || y > y1 + 0.5) continue;
+    const double len = t.label.empty() ? 3.0 : 5.0;
+    o << "<line x1=\"" << Num(x0 - len) << "\" y1=\"" << Num(y) << "\" x2=\"" << Num(x0) << "\" y2=\"" << Num(y)
+      << "\" stroke=\"#333333\"/>\n";
+    if (!t.label.empty()) {
+      TickLabel(o, x0 - 8.0, y + 4.0, t, "end");
+      widest_ytick = std::max(widest_ytick, (t.superscript ? 2 + t.label.size() * 0.7 : t.label.size()) * kCharWidth);
+    }
+  }
+  for (const auto& t : xticks) {
+    const double x = sx(t.value);
+    if (x < x0 - 0.5 || x > x1 + 0.5) continue;
+    const double len = t.label.empty() ? 3.0 : 5.0;
+    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y1) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1 + len)
+      << "\" stroke=\"#333333\"/>\n";
+    if (t.label.empty()) continue;
+    if (l.rotate_categories) {
+      o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y1 + 14.0) << "\" text-anchor=\"end\" font-size=\"11\" "
+        << "transform=\"rotate(-35 " << Num(x) << " " << Num(y1 + 14.0) << ")\">" << Escape(t.label) << "</text>\n";
+    } else {
+      TickLabel(o, x, y1 + 17.0, t, "middle");
+    }
+  }
+  const double tick_labels = l.rotate_categories ? MaxLength(a.categories) * kCharWidth * 0.5 + 20.0 : 22.0;
+  if (!a.x_label.empty()) Text(o, (x0 + x1) / 2, y1 + tick_labels + 18.0, a.x_label, "middle", 12);
+  if (!a.y_label.empty()) {
+    const double x = std::max(14.0, x0 - widest_ytick - 18.0);
+    const double y = (y0 + y1) / 2;
+    o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y)
+      << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 " << Num(x) << " " << Num(y) << ")\">"
+      << Escape(a.y_label) << "</text>\n";
+  }
+  double note_y = y1 + tick_labels + (a.x_label.empty() ? 18.0 : 38.0);
+  for (const auto& line : WrapNote(a.note, static_cast<size_t>(note_width / kNoteCharWidth))) {
+    Text(o, x0, note_y, line, "start", 10, " fill=\"#555555\"");
+    note_y += kNoteLine;
+  }
+}
+
+// The panel's data, clipped to its frame: box plots, then each series' error bars, line and markers.
+static void DrawData(std::ostream& o, const Axes& a, const Scale& sx, const Scale& sy, double x0, double x1, double y0,
+                     double y1, size_t p) {
+  // Data, clipped to the frame.
+  const std::string clip = "clip" + std::to_string(p);
+  o << "<clipPath id=\"" << clip << "\"><rect x=\"" << Num(x0) << "\" y=\"" << Num(y0) << "\" width=\"" << Num(x1 - x0)
+    << "\" height=\"" << Num(y1 - y0) << "\"/></clipPath>\n";
+  o << "<g clip-path=\"url(#" << clip << ")\">\n";
+  const double box_width = std::min(40.0, 0.55 * (x1 - x0) / std::max<size_t>(1, a.categories.size()));
+  for (const auto& b : a.boxes) {
+    const std::string colour = kPalette[b.style % kColours];
+    const double x = sx(b.position), h = box_width / 2;
+    const auto Y = [&](double v) { return sy.Visible(v) ? sy(v) : sy.from; };
+    o << "<g stroke=\"" << colour << "\" stroke-width=\"1.2\">\n";
+    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.low)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.q1))
+      << "\"/>\n";
+    o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.q3)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.high))
+      << "\"/>\n";
+    for (double v : {b.low, b.high}) {
+      o << "<line x1=\"" << Num(x - h / 2) << "\" y1=\"" << Num(Y(v)) << "\" x2=\"" << Num(x + h / 2) << "\" y2=\""
+        << Num(Y(v)) << "\"/>\n";
+    }
+    o << "<rect x=\"" << Num(x - h) << "\" y=\"" << Num(Y(b.q3)) << "\" width=\"" << Num(box_width) << "\" height=\""
+      << Num(std::max(0.5, Y(b.q1) - Y(b.q3))) << "\" fill=\"" << colour << "\" fill-opacity=\"0.22\"/>\n";
+    o << "<line x1=\"" << Num(x - h) << "\" y1=\"" << Num(Y(b.median)) << "\" x2=\"" << Num(x + h) << "\" y2=\""
+      << Num(Y(b.median)) << "\" stroke-width=\"2.4\"/>\n";
+    if (sy.Visible(b.extreme)) {
+      o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(sy(b.extreme)) << "\" r=\"3\" fill=\"white\"/>\n";
+    }
+    o << "</g>\n";
+  }
+  for (size_t s = 0; s < a.series.size(); ++s) {
+    const Series& se = a.series[s];
+    const Style st = StyleOf(se, static_cast<int>(s));
+    std::vector<std::pair<double, double>> pts;
+    for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
+      if (!sx.Visible(se.x[i]) || !sy.Visible(se.y[i])) continue;
+      pts.emplace_back(sx(se.x[i]), sy(se.y[i]));
+    }
+    if (se.y_low.size() == se.y.size() && se.y_high.size() == se.y.size()) {
+      o << "<g stroke=\"" << st.colour << "\" stroke-width=\"1.1\">\n";
+      for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
+        if (!sx.Visible(se.x[i]) || !std::isfinite(se.y_low[i]) || !std::isfinite(se.y_high[i])) continue;
+        const double lo = sy.Visible(se.y_low[i]) ? sy(se.y_low[i]) : sy.from;
+        if (!sy.Visible(se.y_high[i])) continue;
+        const double hi = sy(se.y_high[i]), x = sx(se.x[i]);
+        o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(hi)
+          << "\"/>\n";
+        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(lo)
+          << "\"/>\n";
+        o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(hi) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(hi)
+          << "\"/>\n";
+      }
+      o << "</g>\n";
+    }
+    if (se.lines && pts.size() > 1) {
+      o << "<polyline fill=\"none\" stroke=\"" << st.colour << "\" stroke-width=\"1.6\""
+        << (st.dash.empty() ? "" : " stroke-dasharray=\"" + st.dash + "\"") << " points=\"";
+      for (size_t i = 0; i < pts.size(); ++i) o << (i ? " " : "") << Num(pts[i].first) << "," << Num(pts[i].second);
+      o << "\"/>\n";
+    }
+    if (se.markers) {
+      for (const auto& [x, y] : pts) Marker(o, x, y, st);
+    }
+  }
+  o << "</g>\n";
+}
+
+// The legend, right of the frame.
+static void DrawLegend(std::ostream& o, const Axes& a, double x1, double y0) {
+  // Legend, right of the frame.
+  double ly = y0 + 12.0;
+  const double lx = x1 + 16.0;
+  for (size_t s = 0; s < a.series.size(); ++s) {
+    const Series& se = a.series[s];
+    if (se.label.empty()) continue;
+    const Style st = StyleOf(se, static_cast<int>(s));
+    if (se.lines) {
+      o << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly) << "\" x2=\"" << Num(lx + 24) << "\" y2=\"" << Num(ly)
+        << "\" stroke=\"" << st.colour << "\" stroke-width=\"1.6\""
+        << (st.dash.empty() ? "" : " stroke-dasharray=\"" + st.dash + "\"") << "/>\n";
+    }
+    if (se.markers) Marker(o, lx + 12, ly, st);
+    Text(o, lx + 30, ly + 4, se.label, "start", 11);
+    ly += 18.0;
+  }
+}
+
 std::string RenderSvg(const Figure& figure) {
   // Horizontal layout, shared by every panel so that stacked panels align.
   size_t max_categories = 0, longest_category = 0, longest_legend = 0;
@@ -347,7 +516,8 @@ std::string RenderSvg(const Figure& figure) {
     if (!a.categories.empty()) {
       sx.lo = -0.5;
       sx.hi = static_cast<double>(a.categories.size()) - 0.5;
-      for (size_t i = 0; i < a.categories.size(); ++i) xticks.push_back({static_cast<double>(i), a.categories[i], false});
+      for (size_t i = 0; i < a.categories.size(); ++i)
+        xticks.push_back({static_cast<double>(i), a.categories[i], false});
     } else {
       double lo, hi;
       XRange(a, &lo, &hi);
@@ -357,144 +527,9 @@ std::string RenderSvg(const Figure& figure) {
     YRange(a, &ylo, &yhi);
     const std::vector<Tick> yticks = AxisTicks(ylo, yhi, a.log_y, &sy);
 
-    // Grid, frame, ticks.
-    o << "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
-    for (const auto& t : yticks) {
-      if (t.label.empty() && !a.log_y) continue;
-      const double y = sy(t.value);
-      if (y < y0 - 0.5 || y > y1 + 0.5) continue;
-      o << "<line x1=\"" << Num(x0) << "\" y1=\"" << Num(y) << "\" x2=\"" << Num(x1) << "\" y2=\"" << Num(y) << "\""
-        << (t.label.empty() ? " stroke=\"#f2f2f2\"" : "") << "/>\n";
-    }
-    if (a.categories.empty()) {
-      for (const auto& t : xticks) {
-        if (t.label.empty()) continue;
-        const double x = sx(t.value);
-        o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y0) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1) << "\"/>\n";
-      }
-    }
-    o << "</g>\n";
-    if (a.zero_line && !a.log_y && sy.lo < 0.0 && sy.hi > 0.0) {
-      o << "<line x1=\"" << Num(x0) << "\" y1=\"" << Num(sy(0.0)) << "\" x2=\"" << Num(x1) << "\" y2=\"" << Num(sy(0.0))
-        << "\" stroke=\"#555555\" stroke-width=\"1\"/>\n";
-    }
-    o << "<rect x=\"" << Num(x0) << "\" y=\"" << Num(y0) << "\" width=\"" << Num(x1 - x0) << "\" height=\""
-      << Num(y1 - y0) << "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
-    double widest_ytick = 0.0;
-    for (const auto& t : yticks) {
-      const double y = sy(t.value);
-      if (y < y0 - 0.5 || y > y1 + 0.5) continue;
-      const double len = t.label.empty() ? 3.0 : 5.0;
-      o << "<line x1=\"" << Num(x0 - len) << "\" y1=\"" << Num(y) << "\" x2=\"" << Num(x0) << "\" y2=\"" << Num(y)
-        << "\" stroke=\"#333333\"/>\n";
-      if (!t.label.empty()) {
-        TickLabel(o, x0 - 8.0, y + 4.0, t, "end");
-        widest_ytick = std::max(widest_ytick, (t.superscript ? 2 + t.label.size() * 0.7 : t.label.size()) * kCharWidth);
-      }
-    }
-    for (const auto& t : xticks) {
-      const double x = sx(t.value);
-      if (x < x0 - 0.5 || x > x1 + 0.5) continue;
-      const double len = t.label.empty() ? 3.0 : 5.0;
-      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(y1) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(y1 + len)
-        << "\" stroke=\"#333333\"/>\n";
-      if (t.label.empty()) continue;
-      if (l.rotate_categories) {
-        o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y1 + 14.0) << "\" text-anchor=\"end\" font-size=\"11\" "
-          << "transform=\"rotate(-35 " << Num(x) << " " << Num(y1 + 14.0) << ")\">" << Escape(t.label) << "</text>\n";
-      } else {
-        TickLabel(o, x, y1 + 17.0, t, "middle");
-      }
-    }
-    const double tick_labels = l.rotate_categories ? MaxLength(a.categories) * kCharWidth * 0.5 + 20.0 : 22.0;
-    if (!a.x_label.empty()) Text(o, (x0 + x1) / 2, y1 + tick_labels + 18.0, a.x_label, "middle", 12);
-    if (!a.y_label.empty()) {
-      const double x = std::max(14.0, x0 - widest_ytick - 18.0);
-      const double y = (y0 + y1) / 2;
-      o << "<text x=\"" << Num(x) << "\" y=\"" << Num(y) << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 "
-        << Num(x) << " " << Num(y) << ")\">" << Escape(a.y_label) << "</text>\n";
-    }
-    double note_y = y1 + tick_labels + (a.x_label.empty() ? 18.0 : 38.0);
-    for (const auto& line : WrapNote(a.note, static_cast<size_t>((plot_width + legend_width) / kNoteCharWidth))) {
-      Text(o, x0, note_y, line, "start", 10, " fill=\"#555555\"");
-      note_y += kNoteLine;
-    }
-
-    // Data, clipped to the frame.
-    const std::string clip = "clip" + std::to_string(p);
-    o << "<clipPath id=\"" << clip << "\"><rect x=\"" << Num(x0) << "\" y=\"" << Num(y0) << "\" width=\"" << Num(x1 - x0)
-      << "\" height=\"" << Num(y1 - y0) << "\"/></clipPath>\n";
-    o << "<g clip-path=\"url(#" << clip << ")\">\n";
-    const double box_width = std::min(40.0, 0.55 * (x1 - x0) / std::max<size_t>(1, a.categories.size()));
-    for (const auto& b : a.boxes) {
-      const std::string colour = kPalette[b.style % kColours];
-      const double x = sx(b.position), h = box_width / 2;
-      const auto Y = [&](double v) { return sy.Visible(v) ? sy(v) : sy.from; };
-      o << "<g stroke=\"" << colour << "\" stroke-width=\"1.2\">\n";
-      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.low)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.q1)) << "\"/>\n";
-      o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(Y(b.q3)) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(Y(b.high)) << "\"/>\n";
-      for (double v : {b.low, b.high}) {
-        o << "<line x1=\"" << Num(x - h / 2) << "\" y1=\"" << Num(Y(v)) << "\" x2=\"" << Num(x + h / 2) << "\" y2=\""
-          << Num(Y(v)) << "\"/>\n";
-      }
-      o << "<rect x=\"" << Num(x - h) << "\" y=\"" << Num(Y(b.q3)) << "\" width=\"" << Num(box_width) << "\" height=\""
-        << Num(std::max(0.5, Y(b.q1) - Y(b.q3))) << "\" fill=\"" << colour << "\" fill-opacity=\"0.22\"/>\n";
-      o << "<line x1=\"" << Num(x - h) << "\" y1=\"" << Num(Y(b.median)) << "\" x2=\"" << Num(x + h) << "\" y2=\""
-        << Num(Y(b.median)) << "\" stroke-width=\"2.4\"/>\n";
-      if (sy.Visible(b.extreme)) {
-        o << "<circle cx=\"" << Num(x) << "\" cy=\"" << Num(sy(b.extreme)) << "\" r=\"3\" fill=\"white\"/>\n";
-      }
-      o << "</g>\n";
-    }
-    for (size_t s = 0; s < a.series.size(); ++s) {
-      const Series& se = a.series[s];
-      const Style st = StyleOf(se, static_cast<int>(s));
-      std::vector<std::pair<double, double>> pts;
-      for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
-        if (!sx.Visible(se.x[i]) || !sy.Visible(se.y[i])) continue;
-        pts.emplace_back(sx(se.x[i]), sy(se.y[i]));
-      }
-      if (se.y_low.size() == se.y.size() && se.y_high.size() == se.y.size()) {
-        o << "<g stroke=\"" << st.colour << "\" stroke-width=\"1.1\">\n";
-        for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
-          if (!sx.Visible(se.x[i]) || !std::isfinite(se.y_low[i]) || !std::isfinite(se.y_high[i])) continue;
-          const double lo = sy.Visible(se.y_low[i]) ? sy(se.y_low[i]) : sy.from;
-          if (!sy.Visible(se.y_high[i])) continue;
-          const double hi = sy(se.y_high[i]), x = sx(se.x[i]);
-          o << "<line x1=\"" << Num(x) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x) << "\" y2=\"" << Num(hi) << "\"/>\n";
-          o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(lo) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(lo) << "\"/>\n";
-          o << "<line x1=\"" << Num(x - 3) << "\" y1=\"" << Num(hi) << "\" x2=\"" << Num(x + 3) << "\" y2=\"" << Num(hi) << "\"/>\n";
-        }
-        o << "</g>\n";
-      }
-      if (se.lines && pts.size() > 1) {
-        o << "<polyline fill=\"none\" stroke=\"" << st.colour << "\" stroke-width=\"1.6\""
-          << (st.dash.empty() ? "" : " stroke-dasharray=\"" + st.dash + "\"") << " points=\"";
-        for (size_t i = 0; i < pts.size(); ++i) o << (i ? " " : "") << Num(pts[i].first) << "," << Num(pts[i].second);
-        o << "\"/>\n";
-      }
-      if (se.markers) {
-        for (const auto& [x, y] : pts) Marker(o, x, y, st);
-      }
-    }
-    o << "</g>\n";
-
-    // Legend, right of the frame.
-    double ly = y0 + 12.0;
-    const double lx = x1 + 16.0;
-    for (size_t s = 0; s < a.series.size(); ++s) {
-      const Series& se = a.series[s];
-      if (se.label.empty()) continue;
-      const Style st = StyleOf(se, static_cast<int>(s));
-      if (se.lines) {
-        o << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly) << "\" x2=\"" << Num(lx + 24) << "\" y2=\"" << Num(ly)
-          << "\" stroke=\"" << st.colour << "\" stroke-width=\"1.6\""
-          << (st.dash.empty() ? "" : " stroke-dasharray=\"" + st.dash + "\"") << "/>\n";
-      }
-      if (se.markers) Marker(o, lx + 12, ly, st);
-      Text(o, lx + 30, ly + 4, se.label, "start", 11);
-      ly += 18.0;
-    }
+    DrawAxes(o, a, l, sx, sy, xticks, yticks, x0, x1, y0, y1, plot_width + legend_width);
+    DrawData(o, a, sx, sy, x0, x1, y0, y1, p);
+    DrawLegend(o, a, x1, y0);
     top += l.Height();
   }
   o << "</svg>\n";

@@ -12,13 +12,13 @@
 namespace kincal::svg {
 
 struct Series {
-  std::string label;                 // legend entry; "" = not in the legend
-  std::vector<double> x, y;          // with categorical axes, x is the category index (offsets allowed)
-  std::vector<double> y_low, y_high; // error bar ends (absolute), same size as y, or empty
-  bool lines = true;                 // join the points
+  std::string label;                  // legend entry; "" = not in the legend
+  std::vector<double> x, y;           // with categorical axes, x is the category index (offsets allowed)
+  std::vector<double> y_low, y_high;  // error bar ends (absolute), same size as y, or empty
+  bool lines = true;                  // join the points
   bool markers = true;
-  int style = -1;                    // colour, marker and dash index; -1 = the series' position
-  bool muted = false;                // drawn grey and dashed (a reference such as "before")
+  int style = -1;      // colour, marker and dash index; -1 = the series' position
+  bool muted = false;  // drawn grey and dashed (a reference such as "before")
 };
 
 // One box of a box plot, at category index `position`.
@@ -31,18 +31,18 @@ struct Box {
 
 struct Axes {
   std::string title;
-  std::string x_label, y_label;      // with units, e.g. "position error (mm)"
+  std::string x_label, y_label;  // with units, e.g. "position error (mm)"
   bool log_x = false, log_y = false;
   std::vector<std::string> categories;  // non-empty: categorical x axis, one slot per category
   std::vector<Series> series;
   std::vector<Box> boxes;
-  bool zero_line = false;            // a horizontal line at y = 0 (signed errors)
-  std::string note;                  // one small line under the panel (e.g. what a box shows)
+  bool zero_line = false;  // a horizontal line at y = 0 (signed errors)
+  std::string note;        // one small line under the panel (e.g. what a box shows)
 };
 
 struct Figure {
   std::string title;
-  std::vector<Axes> panels;          // stacked top to bottom
+  std::vector<Axes> panels;  // stacked top to bottom
 };
 
 // The whole SVG document.

@@ -57,7 +57,7 @@ struct Iso9283Cube {
   Eigen::VectorXd center_configuration;  // rad, the pose the cube is built around
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double side = 0.0;
-  std::vector<ValidationTarget> poses;   // P1..P5, constant tool orientation
+  std::vector<ValidationTarget> poses;  // P1..P5, constant tool orientation
 };
 
 // Places the cube: at spec.center_configuration, or (when empty) at the most dexterous configuration of a
@@ -68,9 +68,9 @@ Iso9283Cube PlaceIso9283Cube(const Robot& nominal, const Iso9283Spec& spec, bool
 
 struct Iso9283PoseStats {
   int cycles = 0;
-  double ap_p = 0.0;                   // m
+  double ap_p = 0.0;                                 // m
   Eigen::Vector3d ap_abc = Eigen::Vector3d::Zero();  // rad
-  double rp_l = 0.0;                   // m
+  double rp_l = 0.0;                                 // m
   Eigen::Vector3d rp_abc = Eigen::Vector3d::Zero();  // rad
 };
 

@@ -10,7 +10,9 @@ namespace {
 class PoseMatrixResidual final : public PoseResidual {
  public:
   PoseMatrixResidual(const KinematicModel& model, const CompensationTarget& target, double length_scale)
-      : model_(model), T_a_(target.T_meas_tool.matrix()), position_only_(!target.has_orientation),
+      : model_(model),
+        T_a_(target.T_meas_tool.matrix()),
+        position_only_(!target.has_orientation),
         inverse_scale_(1.0 / length_scale) {}
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
@@ -59,22 +61,20 @@ class PoseMatrixResidual final : public PoseResidual {
 
 }  // namespace
 
-bool AnalyticDerivativeCompensator::Options::IsValid(std::string* why) const {
-  if (!(length_scale > 0) || !std::isfinite(length_scale)) {
-    if (why) *why = "length_scale must be a positive length";
-    return false;
-  }
-  return iteration.IsValid(why);
+const OptionTable<AnalyticDerivativeCompensator::Options>& AnalyticDerivativeCompensator::Options::Table() {
+  static const OptionTable<Options> table =
+      OptionTable<Options>("analytic_derivative")
+          .Add("length_scale", OptionUnit::kLength, &Options::length_scale, "position entries are divided by it",
+               Positive())
+          .Add("plain", &Options::plain, "the paper's form verbatim: 1 m, pseudo-inverse steps, no damping")
+          .Include(GaussNewtonOptions::Table(), &Options::iteration);
+  return table;
 }
 
+bool AnalyticDerivativeCompensator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 AnalyticDerivativeCompensator::Options AnalyticDerivativeCompensator::Options::FromYaml(const YAML::Node& node) {
-  Options o;
-  OptionsReader reader(node, "analytic_derivative");
-  reader.GetLength("length_scale", &o.length_scale);
-  reader.Get("plain", &o.plain);
-  o.iteration.Read(&reader);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 AnalyticDerivativeCompensator::AnalyticDerivativeCompensator() : AnalyticDerivativeCompensator(Options()) {}

@@ -38,6 +38,8 @@ class AnalyticDerivativeCompensator final : public Compensator {
     bool plain = false;
     GaussNewtonOptions iteration;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };

@@ -6,10 +6,9 @@
 
 namespace kincal {
 
-NoneCompensator::Options NoneCompensator::Options::FromYaml(const YAML::Node& node) {
-  OptionsReader reader(node, "none");
-  reader.Finish();
-  return Options();
+const OptionTable<NoneCompensator::Options>& NoneCompensator::Options::Table() {
+  static const OptionTable<Options> table("none");
+  return table;
 }
 
 void NoneCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,

@@ -8,8 +8,9 @@ namespace kincal {
 class NoneCompensator final : public Compensator {
  public:
   struct Options {
+    static const OptionTable<Options>& Table();  // no keys
     bool IsValid(std::string* /*why*/) const { return true; }
-    static Options FromYaml(const YAML::Node& node);
+    static Options FromYaml(const YAML::Node& node) { return Table().Read(node); }
   };
   explicit NoneCompensator(const Options& options = Options()) : options_(options) {}
   std::string name() const override { return "none"; }

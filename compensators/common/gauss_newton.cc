@@ -6,31 +6,23 @@
 
 namespace kincal {
 
-bool GaussNewtonOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (max_iterations < 0) return fail("max_iterations must be >= 0");
-  if (!(position_tolerance > 0) || !std::isfinite(position_tolerance)) return fail("position_tolerance must be > 0");
-  if (!(orientation_tolerance > 0) || !std::isfinite(orientation_tolerance)) {
-    return fail("orientation_tolerance must be > 0");
-  }
-  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
-  if (!(trust_radius > 0) || !std::isfinite(trust_radius)) return fail("trust_radius must be > 0");
-  if (max_step_halvings < 0 || max_step_halvings > 60) return fail("max_step_halvings must be in 0..60");
-  return restarts.IsValid(why);
+const OptionTable<GaussNewtonOptions>& GaussNewtonOptions::Table() {
+  using O = GaussNewtonOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("gauss-newton")
+          .Add("max_iterations", &O::max_iterations, "accepted steps", AtLeast(0))
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance,
+               "converged within this position error", Positive())
+          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation error", Positive())
+          .Add("singular_ratio", &O::singular_ratio, "sigma_min / sigma_max below which steps are damped",
+               Between(0, 1, false, true))
+          .Add("trust_radius", &O::trust_radius, "rad: the longest joint step", Positive())
+          .Add("max_step_halvings", &O::max_step_halvings, "line-search halvings; 0: every step taken", Within(0, 60))
+          .Include(BranchRestartOptions::Table(), &O::restarts);
+  return table;
 }
 
-void GaussNewtonOptions::Read(OptionsReader* reader) {
-  reader->Get("max_iterations", &max_iterations);
-  reader->GetLength("position_tolerance", &position_tolerance);
-  reader->Get("orientation_tolerance", &orientation_tolerance);
-  reader->Get("singular_ratio", &singular_ratio);
-  reader->Get("trust_radius", &trust_radius);
-  reader->Get("max_step_halvings", &max_step_halvings);
-  restarts.Read(reader);
-}
+bool GaussNewtonOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 

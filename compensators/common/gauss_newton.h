@@ -40,9 +40,9 @@ struct GaussNewtonOptions {
   // Targets not reached from the seed are retried from the nominal arm's branches (compensators/compensator.h).
   BranchRestartOptions restarts;
 
+  // The keys above and the restarts'.
+  static const OptionTable<GaussNewtonOptions>& Table();
   bool IsValid(std::string* why) const;
-  // Reads the keys above from a compensator's options (the caller calls reader->Finish()).
-  void Read(OptionsReader* reader);
 };
 
 // r(q), the quantity driven to zero, with its derivative A = -dr/dq (so that the step solves A dq = r).

@@ -31,7 +31,8 @@ double JacobianConditionRatio(const KinematicModel& model, const Eigen::VectorXd
 RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, const RandomTargetOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("random targets: " + OneLine(why));
-  if (nominal.dof() != identified.dof()) throw std::invalid_argument("random targets: the robots differ in joint count");
+  if (nominal.dof() != identified.dof())
+    throw std::invalid_argument("random targets: the robots differ in joint count");
   const int n = identified.dof();
   RandomTargets out;
   Rng rng(options.seed);
@@ -54,7 +55,8 @@ RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, c
     CompensationTarget target;
     target.T_meas_tool = identified.model().ForwardKinematics(q);
     target.has_orientation = options.orientation;
-    const InverseKinematicsResult seed = SolveInverseKinematics(nominal, target.T_meas_tool, options.orientation, q, ik);
+    const InverseKinematicsResult seed =
+        SolveInverseKinematics(nominal, target.T_meas_tool, options.orientation, q, ik);
     bool within_limits = true;
     for (int j = 0; j < n; ++j) {
       const auto [low, high] = nominal.Limit(j);

@@ -3,8 +3,8 @@
 // identified (real) robot uniform within the joint limits, the poses they reach, and as seeds the
 // nominal robot's inverse kinematics started from the true configuration (the controller's solution in
 // the same branch). Configurations are rejected when the nominal inverse kinematics does not converge,
-// leaves the joint limits or lands on another branch (the controller has no solution there), or when the identified robot's Jacobian is too close to
-// singular (min_sigma_ratio).
+// leaves the joint limits or lands on another branch (the controller has no solution there), or when the identified
+// robot's Jacobian is too close to singular (min_sigma_ratio).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,11 +18,11 @@ namespace kincal {
 struct RandomTargetOptions {
   int count = 100;
   uint64_t seed = 1;
-  bool orientation = true;       // false: position-only targets
+  bool orientation = true;  // false: position-only targets
   // Reject configurations where sigma_min / sigma_max of the identified Jacobian (position rows in units
   // of `length_scale`) is below this. 0 keeps every configuration whose nominal IK converges.
   double min_sigma_ratio = 0.0;
-  double length_scale = 0.5;     // m
+  double length_scale = 0.5;  // m
   // rad: a nominal solution farther than this from the true configuration (in any joint) is another
   // branch, not the controller's solution for it.
   double max_seed_distance = 0.5;

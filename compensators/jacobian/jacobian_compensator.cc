@@ -10,7 +10,9 @@ namespace {
 class TwistResidual final : public PoseResidual {
  public:
   TwistResidual(const KinematicModel& model, const CompensationTarget& target, double length_scale)
-      : model_(model), T_a_(target.T_meas_tool), position_only_(!target.has_orientation),
+      : model_(model),
+        T_a_(target.T_meas_tool),
+        position_only_(!target.has_orientation),
         inverse_scale_(1.0 / length_scale) {}
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
@@ -50,21 +52,18 @@ class TwistResidual final : public PoseResidual {
 
 JacobianCompensator::JacobianCompensator() : JacobianCompensator(Options()) {}
 
-bool JacobianCompensator::Options::IsValid(std::string* why) const {
-  if (!(length_scale > 0) || !std::isfinite(length_scale)) {
-    if (why) *why = "length_scale must be a positive length";
-    return false;
-  }
-  return iteration.IsValid(why);
+const OptionTable<JacobianCompensator::Options>& JacobianCompensator::Options::Table() {
+  static const OptionTable<Options> table = OptionTable<Options>("jacobian")
+                                                .Add("length_scale", OptionUnit::kLength, &Options::length_scale,
+                                                     "position rows are divided by it", Positive())
+                                                .Include(GaussNewtonOptions::Table(), &Options::iteration);
+  return table;
 }
 
+bool JacobianCompensator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 JacobianCompensator::Options JacobianCompensator::Options::FromYaml(const YAML::Node& node) {
-  Options o;
-  OptionsReader reader(node, "jacobian");
-  reader.GetLength("length_scale", &o.length_scale);
-  o.iteration.Read(&reader);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void JacobianCompensator::DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& /*seed*/,

@@ -29,6 +29,8 @@ class JacobianCompensator final : public Compensator {
     double length_scale = 0.5;
     GaussNewtonOptions iteration;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };

@@ -20,36 +20,27 @@ using Pose34 = PoseExpansion::Pose34;
 
 JointSpaceCompensator::JointSpaceCompensator() : JointSpaceCompensator(Options()) {}
 
-bool JointSpaceCompensator::Options::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (degree < 1 || degree > 8) return fail("degree must be 1 to 8");
-  if (steps < 1 || steps > 5) return fail("steps must be 1 to 5");
-  if (!(length_scale > 0)) return fail("length_scale must be > 0");
-  if (!(damping >= 0)) return fail("damping must be >= 0");
-  if (!(max_step > 0)) return fail("max_step must be > 0");
-  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
-  if (!(max_fit_error > 0)) return fail("max_fit_error must be > 0");
-  if (!(max_table_bytes > 0)) return fail("max_table_bytes must be > 0");
-  return true;
+const OptionTable<JointSpaceCompensator::Options>& JointSpaceCompensator::Options::Table() {
+  using O = Options;
+  static const OptionTable<O> table =
+      OptionTable<O>("joint_space")
+          .Add("degree", &O::degree, "degree of the series in each joint", Within(1, 8))
+          .Add("steps", &O::steps, "Jacobian steps at run time", Within(1, 5))
+          .Add("length_scale", OptionUnit::kLength, &O::length_scale, "position rows are divided by it", Positive())
+          .Add("damping", &O::damping, "Levenberg damping (its square is mu)", NonNegative())
+          .Add("max_step", &O::max_step, "rad: the longest step", Positive())
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "converged within this position",
+               Positive())
+          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation", Positive())
+          .Add("max_fit_error", &O::max_fit_error, "Prepare() fails when the expansion misses by more", Positive())
+          .Add("max_table_bytes", &O::max_table_bytes, "refuse larger expansions", Positive());
+  return table;
 }
 
+bool JointSpaceCompensator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 JointSpaceCompensator::Options JointSpaceCompensator::Options::FromYaml(const YAML::Node& node) {
-  Options o;
-  OptionsReader reader(node, "joint_space");
-  reader.Get("degree", &o.degree);
-  reader.Get("steps", &o.steps);
-  reader.GetLength("length_scale", &o.length_scale);
-  reader.Get("damping", &o.damping);
-  reader.Get("max_step", &o.max_step);
-  reader.GetLength("position_tolerance", &o.position_tolerance);
-  reader.Get("orientation_tolerance", &o.orientation_tolerance);
-  reader.Get("max_fit_error", &o.max_fit_error);
-  reader.Get("max_table_bytes", &o.max_table_bytes);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void JointSpaceCompensator::DoPrepare() {
@@ -61,17 +52,17 @@ void JointSpaceCompensator::DoPrepare() {
   const int n = id.dof();
   if (n < 2 || n > kMaxJoints) throw std::invalid_argument("joint_space: needs 2 to 16 joints");
   const double bytes = 12 * sizeof(double) * (2.0 * options_.degree + 1) * n;
-  if (bytes > options_.max_table_bytes) throw std::invalid_argument("joint_space: the expansion exceeds max_table_bytes");
+  if (bytes > options_.max_table_bytes)
+    throw std::invalid_argument("joint_space: the expansion exceeds max_table_bytes");
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
   const Eigen::Isometry3d T0 = model.ForwardKinematics(zero), T0_inv = T0.inverse();
   T_zero_ = T0.matrix();
   factors_.clear();
   for (int j = 0; j < n; ++j) {
     const auto [low, high] = id.Limit(j);
-    factors_.push_back(PoseExpansion::Fit({{j, model.joint_type(j), low, high}}, options_.degree, zero,
-                                          [&](const Eigen::VectorXd& q) {
-                                            return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv);
-                                          }));
+    factors_.push_back(PoseExpansion::Fit(
+        {{j, model.joint_type(j), low, high}}, options_.degree, zero,
+        [&](const Eigen::VectorXd& q) { return Eigen::Isometry3d(model.ForwardKinematics(q) * T0_inv); }));
   }
 
   revolute_.clear();
@@ -108,8 +99,9 @@ void JointSpaceCompensator::DoPrepare() {
         std::max(info_.fit_orientation_error, (T.linear() - T_model.linear()).cwiseAbs().maxCoeff());
   }
   if (!(info_.fit_position_error <= options_.max_fit_error && info_.fit_orientation_error <= options_.max_fit_error)) {
-    throw std::invalid_argument("joint_space: the degree-" + std::to_string(options_.degree) + " expansion misses the " +
-                                "identified model by " + std::to_string(info_.fit_position_error) + " m, " +
+    throw std::invalid_argument("joint_space: the degree-" + std::to_string(options_.degree) +
+                                " expansion misses the " + "identified model by " +
+                                std::to_string(info_.fit_position_error) + " m, " +
                                 std::to_string(info_.fit_orientation_error) + " (over max_fit_error)");
   }
   // The common part of the correction (header): exact corrections at well-conditioned random
@@ -161,10 +153,11 @@ void JointSpaceCompensator::JointTrig::Advance(const Joints& dq) {
       // Taylor series to x^13 / x^12: the remainder is below 0.6^14 / 14! ~ 9e-15 relative to 1... and
       // each step's own error is what the next step corrects.
       const double x2 = x * x;
-      sd = x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 +
-                                                                                                          x2 / 6227020800.0))))));
-      cd = 1 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 +
-                                                                                             x2 / 479001600.0)))));
+      sd = x * (1 + x2 * (-1.0 / 6 +
+                          x2 * (1.0 / 120 + x2 * (-1.0 / 5040 +
+                                                  x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 + x2 / 6227020800.0))))));
+      cd = 1 + x2 * (-0.5 + x2 * (1.0 / 24 +
+                                  x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 / 479001600.0)))));
     } else {
       cd = std::cos(x);
       sd = std::sin(x);

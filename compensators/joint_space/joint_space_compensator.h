@@ -66,6 +66,8 @@ class JointSpaceCompensator final : public Compensator {
     // Refuse expansions larger than this (bytes).
     double max_table_bytes = 5e7;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };
@@ -127,10 +129,10 @@ class JointSpaceCompensator final : public Compensator {
   };
 
   Options options_;
-  std::vector<PoseExpansion> factors_;  // X_j(q_j)
-  std::vector<RevoluteFactor> revolute_;  // the same as RevoluteFactor when they apply, else empty
+  std::vector<PoseExpansion> factors_;                    // X_j(q_j)
+  std::vector<RevoluteFactor> revolute_;                  // the same as RevoluteFactor when they apply, else empty
   Eigen::Matrix4d T_zero_ = Eigen::Matrix4d::Identity();  // T_meas_tool(0)
-  Eigen::Matrix<double, 6, Eigen::Dynamic> screws_;         // (v, omega) of each joint at q = 0
+  Eigen::Matrix<double, 6, Eigen::Dynamic> screws_;       // (v, omega) of each joint at q = 0
   Eigen::VectorXd offset_;
   TableInfo info_;
 };

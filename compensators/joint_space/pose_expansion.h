@@ -33,8 +33,8 @@ class PoseExpansion {
 
   PoseExpansion() = default;
   // Fits f, called with full joint vectors equal to `rest` except on the axes' joints. No axes: the
-  // constant f(rest). Throws std::invalid_argument for a degree outside 1..8, more than 16 axes, a prismatic axis with an empty
-  // range or a joint listed twice.
+  // constant f(rest). Throws std::invalid_argument for a degree outside 1..8, more than 16 axes, a prismatic axis with
+  // an empty range or a joint listed twice.
   static PoseExpansion Fit(std::vector<Axis> axes, int degree, const Eigen::VectorXd& rest,
                            const std::function<Eigen::Isometry3d(const Eigen::VectorXd&)>& f);
 

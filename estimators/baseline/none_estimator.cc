@@ -2,10 +2,9 @@
 
 namespace kincal {
 
-NoneEstimator::Options NoneEstimator::Options::FromYaml(const YAML::Node& node) {
-  OptionsReader reader(node, "none");
-  reader.Finish();
-  return Options();
+const OptionTable<NoneEstimator::Options>& NoneEstimator::Options::Table() {
+  static const OptionTable<Options> table("none");
+  return table;
 }
 
 void NoneEstimator::DoEstimate(const Robot& start, const Robot& /*controller*/, const Dataset& /*data*/,

@@ -16,57 +16,46 @@ bool SuiteSparseAvailable() { return ceres::IsSparseLinearAlgebraLibraryTypeAvai
 
 }  // namespace
 
-bool CeresOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
+const OptionTable<CeresOptions>& CeresOptions::Table() {
+  using O = CeresOptions;
+  const Requirement<std::string> solver = [](const std::string& name) -> std::string {
+    const std::string why = OneOf({"auto", "dense_qr", "dense_normal_cholesky", "sparse_normal_cholesky"})(name);
+    if (!why.empty()) return why;
+    if (name == "sparse_normal_cholesky" && !SuiteSparseAvailable()) return "needs SuiteSparse, which this Ceres lacks";
+    return "";
   };
-  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
-  if (linear_solver != "auto" && linear_solver != "dense_qr" && linear_solver != "dense_normal_cholesky" &&
-      linear_solver != "sparse_normal_cholesky") {
-    return fail("linear_solver must be auto, dense_qr, dense_normal_cholesky or sparse_normal_cholesky, got '" +
-                linear_solver + "'");
-  }
-  if (linear_solver == "sparse_normal_cholesky" && !SuiteSparseAvailable()) {
-    return fail("linear_solver sparse_normal_cholesky: this Ceres was built without SuiteSparse");
-  }
-  if (max_iterations < 0) return fail("max_iterations must be >= 0");
-  const auto nonnegative = [](double v) { return v >= 0.0 && std::isfinite(v); };
-  if (!nonnegative(function_tolerance)) return fail("function_tolerance must be >= 0");
-  if (!nonnegative(gradient_tolerance)) return fail("gradient_tolerance must be >= 0");
-  if (!nonnegative(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
-  if (!(initial_trust_region_radius > 0.0) || !std::isfinite(initial_trust_region_radius)) {
-    return fail("initial_trust_region_radius must be positive");
-  }
-  if (num_threads < 1) return fail("num_threads must be >= 1");
-  return true;
+  static const OptionTable<O> table =
+      OptionTable<O>("ceres")
+          .Include(ErrorModelEstimatorOptions::Table())
+          .Add("linear_solver", &O::linear_solver, "auto, dense_qr, dense_normal_cholesky or sparse_normal_cholesky",
+               solver)
+          .Add("max_iterations", &O::max_iterations, "Ceres' max_num_iterations", AtLeast(0))
+          .Add("function_tolerance", &O::function_tolerance, "Ceres' function_tolerance", NonNegative())
+          .Add("gradient_tolerance", &O::gradient_tolerance, "Ceres' gradient_tolerance", NonNegative())
+          .Add("parameter_tolerance", &O::parameter_tolerance, "Ceres' parameter_tolerance", NonNegative())
+          .Add("initial_trust_region_radius", &O::initial_trust_region_radius,
+               "Levenberg-Marquardt's initial trust region", Positive())
+          .Add("num_threads", &O::num_threads, "threads evaluating residual blocks", AtLeast(1))
+          .Add("verbose", &O::verbose, "Ceres' per-iteration log on stdout");
+  return table;
 }
 
-CeresOptions CeresOptions::FromYaml(const YAML::Node& node) {
-  CeresOptions o;
-  OptionsReader reader(node, "ceres");
-  o.ReadShared(&reader);
-  reader.Get("linear_solver", &o.linear_solver);
-  reader.Get("max_iterations", &o.max_iterations);
-  reader.Get("function_tolerance", &o.function_tolerance);
-  reader.Get("gradient_tolerance", &o.gradient_tolerance);
-  reader.Get("parameter_tolerance", &o.parameter_tolerance);
-  reader.Get("initial_trust_region_radius", &o.initial_trust_region_radius);
-  reader.Get("num_threads", &o.num_threads);
-  reader.Get("verbose", &o.verbose);
-  reader.Finish();
-  return o;
-}
+bool CeresOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
+CeresOptions CeresOptions::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 namespace {
 
 EstimationStatus StatusOf(const ceres::Solver::Summary& summary) {
   switch (summary.termination_type) {
     case ceres::CONVERGENCE:
-    case ceres::USER_SUCCESS: return EstimationStatus::kConverged;
-    case ceres::NO_CONVERGENCE: return EstimationStatus::kIterationLimit;
+    case ceres::USER_SUCCESS:
+      return EstimationStatus::kConverged;
+    case ceres::NO_CONVERGENCE:
+      return EstimationStatus::kIterationLimit;
     case ceres::FAILURE:
-    case ceres::USER_FAILURE: return EstimationStatus::kFailed;
+    case ceres::USER_FAILURE:
+      return EstimationStatus::kFailed;
   }
   return EstimationStatus::kFailed;
 }

@@ -20,7 +20,7 @@ struct CeresOptions : ErrorModelEstimatorOptions {
   // "auto": sparse_normal_cholesky when sessions make J block sparse (and SuiteSparse is available),
   // else dense_qr. Or force one of "dense_qr", "dense_normal_cholesky", "sparse_normal_cholesky".
   std::string linear_solver = "auto";
-  int max_iterations = 50;             // Ceres' max_num_iterations (trust-region steps)
+  int max_iterations = 50;  // Ceres' max_num_iterations (trust-region steps)
   // Ceres' stopping rules: |d cost| <= function_tolerance cost; max_i |g_i| <= gradient_tolerance (g the
   // gradient of half the cost, m^2 per unit of x); |dx| <= parameter_tolerance (|x| + parameter_tolerance).
   // Tight: noise-free data reaches the truth to rounding level, as least_squares does (|x| is about
@@ -33,9 +33,11 @@ struct CeresOptions : ErrorModelEstimatorOptions {
   // closed form, so Gauss-Newton steps are good from the start (5 iterations instead of Ceres' default
   // 1e4's 8 on the benchmark problem).
   double initial_trust_region_radius = 1e6;
-  int num_threads = 1;                 // threads evaluating residual blocks
-  bool verbose = false;                // Ceres' per-iteration log on stdout
+  int num_threads = 1;   // threads evaluating residual blocks
+  bool verbose = false;  // Ceres' per-iteration log on stdout
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<CeresOptions>& Table();
   bool IsValid(std::string* why) const;
   static CeresOptions FromYaml(const YAML::Node& node);
 };

@@ -93,9 +93,14 @@ CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeig
                                 std::to_string(rows) + " rows");
   }
   switch (weighting.loss.type) {
-    case RobustLoss::Type::kNone: break;
-    case RobustLoss::Type::kHuber: loss_ = std::make_unique<ceres::HuberLoss>(weighting.loss.scale); break;
-    case RobustLoss::Type::kCauchy: loss_ = std::make_unique<ceres::CauchyLoss>(weighting.loss.scale); break;
+    case RobustLoss::Type::kNone:
+      break;
+    case RobustLoss::Type::kHuber:
+      loss_ = std::make_unique<ceres::HuberLoss>(weighting.loss.scale);
+      break;
+    case RobustLoss::Type::kCauchy:
+      loss_ = std::make_unique<ceres::CauchyLoss>(weighting.loss.scale);
+      break;
   }
   ceres::Problem::Options options;
   options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;

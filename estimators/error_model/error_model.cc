@@ -41,8 +41,8 @@ void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorMod
     held.InheritPriors(*previous);
   } else {
     held.set_prior_noise(options.prior.noise > 0.0 ? options.prior.noise
-                         : ne.num_residuals > 0 ? std::sqrt(ne.irls_squares / ne.num_residuals)
-                                                : 0.0);
+                         : ne.num_residuals > 0    ? std::sqrt(ne.irls_squares / ne.num_residuals)
+                                                   : 0.0);
   }
   prep->problem = std::make_unique<ErrorModelProblem>(held);
   // The normal equations at the start, restricted to the free columns (same x, same rows): the held
@@ -51,7 +51,8 @@ void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorMod
   initial = ne;
   const auto all = structural.ParameterNames();
   std::vector<int> keep;
-  for (const auto& name : held.ParameterNames()) keep.push_back(static_cast<int>(std::find(all.begin(), all.end(), name) - all.begin()));
+  for (const auto& name : held.ParameterNames())
+    keep.push_back(static_cast<int>(std::find(all.begin(), all.end(), name) - all.begin()));
   const int p = static_cast<int>(keep.size());
   initial.JtJ.resize(p, p);
   initial.Jtr.resize(p);
@@ -92,7 +93,8 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   for (const Measurement& m : data.rows) {
     if (m.marker.empty() || start.markers.count(m.marker) || !options.identify_markers) continue;
     bool held = false;
-    for (const auto& name : options.fixed) held = held || name == "markers" || name.rfind("marker_" + m.marker + "_", 0) == 0;
+    for (const auto& name : options.fixed)
+      held = held || name == "markers" || name.rfind("marker_" + m.marker + "_", 0) == 0;
     if (!held) prep.input.markers[m.marker] = Eigen::Vector3d::Zero();
   }
   prep.start = prep.input;
@@ -100,7 +102,8 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   { const ErrorModelProblem check(prep.input, controller, data, options); }
   const StartPlacement placement = PlaceStart(controller, data, options, &prep.start);
   for (const std::string& w : placement.warnings) {
-    (w.find("too little to place the markers") != std::string::npos ? prep.placement_notes : prep.warnings).push_back(w);
+    (w.find("too little to place the markers") != std::string::npos ? prep.placement_notes : prep.warnings)
+        .push_back(w);
   }
   prep.placed = placement.placed;
   AnalyzeAndHold(controller, data, options, weighting, &prep, nullptr);
@@ -108,8 +111,8 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   return prep;
 }
 
-bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
-                              PreparedErrorModel* prep, Eigen::VectorXd* x) {
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
+                              Eigen::VectorXd* x) {
   PreparedErrorModel next = RebuiltAt(solution, weighting, *prep);
   if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
     *x = solution;
@@ -147,13 +150,15 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
                         Eigen::VectorXd* x) {
   *x = solution;
   const ErrorModelProblem& problem = *prep->problem;
-  const NormalEquations ne = AccumulateNormalEquations(problem, solution, weighting, Accumulate::kNormalEquations, false);
+  const NormalEquations ne =
+      AccumulateNormalEquations(problem, solution, weighting, Accumulate::kNormalEquations, false);
   const double sigma = DataSigma(ne, problem.num_parameters());
   if (!(sigma > 0.0)) return false;
   std::vector<WeakParameter> weak;
   const std::vector<int> hold = ChooseWeakToHold(problem, ne.JtJ, sigma, &weak);
   for (const auto& w : weak) {
-    const bool known = std::any_of(prep->weak.begin(), prep->weak.end(), [&](const WeakParameter& v) { return v.name == w.name; });
+    const bool known =
+        std::any_of(prep->weak.begin(), prep->weak.end(), [&](const WeakParameter& v) { return v.name == w.name; });
     if (!known) prep->weak.push_back(w);
   }
   if (hold.empty()) return false;
@@ -228,10 +233,14 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
     switch (q.group) {
       case ErrorModelParameter::Group::kJoint:
       case ErrorModelParameter::Group::kTool:
-      case ErrorModelParameter::Group::kBase: return robot.model().Parameters()[q.model_index];
-      case ErrorModelParameter::Group::kRatio: return robot.drives->ratio[q.joint];
-      case ErrorModelParameter::Group::kJointError: return robot.joint_errors.Coefficients()[q.coefficient];
-      case ErrorModelParameter::Group::kMarker: return robot.MarkerPosition(q.marker)[q.axis];
+      case ErrorModelParameter::Group::kBase:
+        return robot.model().Parameters()[q.model_index];
+      case ErrorModelParameter::Group::kRatio:
+        return robot.drives->ratio[q.joint];
+      case ErrorModelParameter::Group::kJointError:
+        return robot.joint_errors.Coefficients()[q.coefficient];
+      case ErrorModelParameter::Group::kMarker:
+        return robot.MarkerPosition(q.marker)[q.axis];
       case ErrorModelParameter::Group::kSession: {
         const Eigen::Isometry3d T = robot.SessionBase(q.session);
         return q.axis < 3 ? T.translation()[q.axis] : RpyFromRotation(T.linear())[q.axis - 3];
@@ -287,9 +296,10 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   d["placed_in_closed_form"] = prep.placed;
   d["placement_notes"] = prep.placement_notes;
   d["rank"] = a.rank;
-  d["observability"] = {{"O1", a.observability.o1}, {"O2", a.observability.o2}, {"O3", a.observability.o3},
-                        {"O4", a.observability.o4}, {"O5", a.observability.o5},
-                        {"scaling", "characteristic: 1 mm, 1 mrad, 1e-3 ratio scale; O1, O3, O4, O5 in m"}};
+  d["observability"] = {
+      {"O1", a.observability.o1}, {"O2", a.observability.o2},
+      {"O3", a.observability.o3}, {"O4", a.observability.o4},
+      {"O5", a.observability.o5}, {"scaling", "characteristic: 1 mm, 1 mrad, 1e-3 ratio scale; O1, O3, O4, O5 in m"}};
   d["condition_number_scaling"] = "unit column norms";
   nlohmann::json held = nlohmann::json::array();
   for (const auto& h : p.held()) held.push_back({{"name", h.parameter.name}, {"reason", h.reason}});
@@ -298,15 +308,21 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   nlohmann::json weak = nlohmann::json::array();
   std::string held_weak, free_weak;
   for (const auto& w : prep.weak) {
-    weak.push_back({{"name", w.name}, {"data_sd", Finite(w.data_sd)}, {"reference_sd", w.reference_sd},
-                    {"prior", w.has_prior}, {"held", w.held}, {"trades_against", w.trades_against}});
+    weak.push_back({{"name", w.name},
+                    {"data_sd", Finite(w.data_sd)},
+                    {"reference_sd", w.reference_sd},
+                    {"prior", w.has_prior},
+                    {"held", w.held},
+                    {"trades_against", w.trades_against}});
     std::string& list = w.held ? held_weak : free_weak;
     list += (list.empty() ? "" : ", ") + w.Describe();
   }
   d["weak_parameters"] = weak;
   if (!held_weak.empty()) {
-    report->warnings.push_back("weakly identifiable without a prior, held at the start value (add poses that move "
-                               "them, or give them a prior): " + held_weak);
+    report->warnings.push_back(
+        "weakly identifiable without a prior, held at the start value (add poses that move "
+        "them, or give them a prior): " +
+        held_weak);
   }
   // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
   if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;

@@ -32,14 +32,14 @@
 namespace kincal {
 
 struct PreparedErrorModel {
-  Robot input;                                  // the start robot as given (markers the data name but it
-                                                // lacks added at the tool origin)
-  Robot start;                                  // the same with bases, tool and markers placed
-  std::vector<std::string> placed;              // what the placement set (StartPlacement::placed)
-  std::unique_ptr<ErrorModelProblem> problem;   // identifiable parameters free
-  IdentifiabilityAnalysis identifiability;      // at the start, of the problem before holding
-  NormalEquations initial;                      // of `problem` at its InitialX(), with the weighting given
-  double registered_rms = NAN;                  // position RMS of the start once placed, m
+  Robot input;                                 // the start robot as given (markers the data name but it
+                                               // lacks added at the tool origin)
+  Robot start;                                 // the same with bases, tool and markers placed
+  std::vector<std::string> placed;             // what the placement set (StartPlacement::placed)
+  std::unique_ptr<ErrorModelProblem> problem;  // identifiable parameters free
+  IdentifiabilityAnalysis identifiability;     // at the start, of the problem before holding
+  NormalEquations initial;                     // of `problem` at its InitialX(), with the weighting given
+  double registered_rms = NAN;                 // position RMS of the start once placed, m
   std::vector<std::string> warnings;
   // What the placement fell back on but the fit normally recovers from (markers placed from the robot
   // file's positions first): details.placement_notes, and warnings only when the fit did not converge.
@@ -59,8 +59,8 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
 // redundant with the tool. When the identifiable set at the solution differs, prep is rebuilt from the
 // solution (prep->start becomes the solution robot), *x is its new InitialX() and the result is true: the
 // estimator minimises again. Otherwise *x = solution and the result is false. Costs one pass.
-bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting,
-                              PreparedErrorModel* prep, Eigen::VectorXd* x);
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
+                              Eigen::VectorXd* x);
 
 // Rebuilds prep at `solution` (prep->start becomes the solution robot; identifiability re-analysed, weak
 // holds and prior means kept) with the priors weighed by `prior_noise` (m); *x = its InitialX().
@@ -83,9 +83,9 @@ double DataSigma(const NormalEquations& ne, int num_parameters);
 bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma);
 
 struct Covariance {
-  Eigen::MatrixXd matrix;    // p x p, sigma^2 (J^T W J)^-1, x's units
-  Eigen::VectorXd stddev;    // sqrt of the diagonal (NaN where J^T W J is singular)
-  double sigma = 0.0;        // estimated noise standard deviation per residual, m
+  Eigen::MatrixXd matrix;  // p x p, sigma^2 (J^T W J)^-1, x's units
+  Eigen::VectorXd stddev;  // sqrt of the diagonal (NaN where J^T W J is singular)
+  double sigma = 0.0;      // estimated noise standard deviation per residual, m
   int degrees_of_freedom = 0;
 };
 // From the normal equations at the solution (NormalEquations of AccumulateNormalEquations).

@@ -8,21 +8,23 @@
 
 namespace kincal {
 
-bool ErrorModelEstimatorOptions::IsValid(std::string* why) const {
-  return error_model.IsValid(why) && weighting.IsValid(why) && selection.IsValid(why);
+const OptionTable<ErrorModelEstimatorOptions>& ErrorModelEstimatorOptions::Table() {
+  using O = ErrorModelEstimatorOptions;
+  static const OptionTable<O> table = OptionTable<O>("error model estimator")
+                                          .Include(ErrorModelOptions::Table(), &O::error_model)
+                                          .Include(RowWeightingOptions::Table(), &O::weighting)
+                                          .Include(ModelSelectionOptions::Table(), &O::selection);
+  return table;
 }
 
-void ErrorModelEstimatorOptions::ReadShared(OptionsReader* reader) {
-  error_model.Read(reader);
-  weighting.Read(reader);
-  selection.Read(reader);
-}
+bool ErrorModelEstimatorOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 
 // The fit's own noise per residual at x, the data alone.
 double SigmaAt(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const RowWeighting& weighting) {
-  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false), problem.num_parameters());
+  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false),
+                   problem.num_parameters());
 }
 
 }  // namespace

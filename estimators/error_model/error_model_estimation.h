@@ -28,27 +28,27 @@
 namespace kincal {
 
 struct ErrorModelEstimatorOptions {
-  ErrorModelOptions error_model;   // error_model_problem.h
-  RowWeightingOptions weighting;   // robust loss and per-row weights (keys loss, loss_scale, weights)
-  ModelSelectionOptions selection; // keys select, select_folds (estimators/selection/model_selection.h)
+  ErrorModelOptions error_model;    // error_model_problem.h
+  RowWeightingOptions weighting;    // robust loss and per-row weights (keys loss, loss_scale, weights)
+  ModelSelectionOptions selection;  // keys select, select_folds (estimators/selection/model_selection.h)
 
+  // The keys of both (see above); each estimator's table includes this one before its own keys.
+  static const OptionTable<ErrorModelEstimatorOptions>& Table();
   bool IsValid(std::string* why) const;
-  // The keys of both (see above). Estimators read their own keys after these, then Finish().
-  void ReadShared(OptionsReader* reader);
 };
 
 struct MinimizerRun {
   EstimationStatus status = EstimationStatus::kFailed;
   std::string message;
-  int iterations = 0;              // in the unit the budget counts (iterations or evaluations)
-  int parameters_at_bounds = -1;   // bounded solvers: how many ended on a bound; -1 for unbounded ones
-  nlohmann::json details;          // backend details of this run (the last run's are reported)
+  int iterations = 0;             // in the unit the budget counts (iterations or evaluations)
+  int parameters_at_bounds = -1;  // bounded solvers: how many ended on a bound; -1 for unbounded ones
+  nlohmann::json details;         // backend details of this run (the last run's are reported)
 };
 
 // Minimises prep's problem from *x (its InitialX()) with `weighting` in at most `budget` iterations;
 // *x ends at the point the backend returns.
-using ErrorModelMinimizer =
-    std::function<MinimizerRun(const PreparedErrorModel& prep, const RowWeighting& weighting, int budget, Eigen::VectorXd* x)>;
+using ErrorModelMinimizer = std::function<MinimizerRun(const PreparedErrorModel& prep, const RowWeighting& weighting,
+                                                       int budget, Eigen::VectorXd* x)>;
 
 // Steps 1-4 above. `estimator` names the estimator in messages. Throws std::invalid_argument for bad
 // input (PrepareErrorModel's conditions, weights not one per row).

@@ -1,3 +1,6 @@
+// Over 600 lines on purpose: ErrorModelProblem's construction (in named steps) and its row evaluation
+// share the class's column maps and per-row tables, and are read together; the options' table is here
+// beside the problem that reads it.
 #include "estimators/error_model/error_model_problem.h"
 
 #include <algorithm>
@@ -10,7 +13,6 @@
 #include "framework/error.h"
 #include "robot/prediction.h"
 #include "models/chain_model.h"
-#include "models/hayati_model.h"
 
 namespace kincal {
 namespace {
@@ -30,58 +32,71 @@ Vector6d XyzRpy(const Eigen::Isometry3d& T) {
 // Order of the groups in x (blocks are contiguous).
 int GroupOrder(Group g) {
   switch (g) {
-    case Group::kJoint: return 0;
-    case Group::kTool: return 0;
-    case Group::kRatio: return 1;
-    case Group::kJointError: return 2;
-    case Group::kMarker: return 3;
-    case Group::kBase: return 4;
-    case Group::kSession: return 5;
+    case Group::kJoint:
+      return 0;
+    case Group::kTool:
+      return 0;
+    case Group::kRatio:
+      return 1;
+    case Group::kJointError:
+      return 2;
+    case Group::kMarker:
+      return 3;
+    case Group::kBase:
+      return 4;
+    case Group::kSession:
+      return 5;
   }
   return 6;
 }
 
 }  // namespace
 
-bool ErrorModelOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!(orientation_length > 0.0) || !std::isfinite(orientation_length)) return fail("orientation_length must be positive");
-  if (!(identifiability_tolerance > 0.0 && identifiability_tolerance < 1.0)) {
-    return fail("identifiability_tolerance must lie in (0, 1)");
-  }
-  const double b[] = {bounds.length,      bounds.angle,      bounds.ratio,      bounds.marker,
-                      bounds.base_length, bounds.base_angle, bounds.joint_error};
-  for (double v : b) {
-    if (!(v > 0.0) || !std::isfinite(v)) return fail("bounds must be positive and finite");
-  }
-  if (!(bounds.ratio < 1.0)) return fail("bound_ratio must be below 1");
-  if (!(prior.noise >= 0.0) || !std::isfinite(prior.noise)) return fail("prior_noise must be finite and >= 0");
-  for (const auto& [key, sd] : prior.sd) {
-    if (!(sd >= 0.0) || !std::isfinite(sd)) return fail("prior: " + key + " must be finite and >= 0");
-  }
-  return true;
+const OptionTable<ErrorModelBounds>& ErrorModelBounds::Table() {
+  using B = ErrorModelBounds;
+  static const OptionTable<B> table =
+      OptionTable<B>("error model bounds")
+          .Add("bound_length", OptionUnit::kLength, &B::length, "bound on a_i, d_i (bounded solvers)", Positive())
+          .Add("bound_angle_deg", OptionUnit::kAngleDeg, &B::angle, "bound on alpha_i, theta_i, tool angles",
+               Positive())
+          .Add("bound_ratio", &B::ratio, "relative bound on the ratio scales", Between(0, 1, true, true))
+          .Add("bound_marker", OptionUnit::kLength, &B::marker, "bound on marker offsets and tool_x/y/z", Positive())
+          .Add("bound_base_length", OptionUnit::kLength, &B::base_length, "bound on base translations", Positive())
+          .Add("bound_base_angle_deg", OptionUnit::kAngleDeg, &B::base_angle, "bound on base rotations", Positive())
+          .Add("bound_joint_error_deg", OptionUnit::kAngleDeg, &B::joint_error,
+               "bound on a joint error coefficient, as the RMS joint offset it makes", Positive());
+  return table;
 }
 
-void ErrorModelOptions::Read(OptionsReader* reader) {
-  reader->Get("fixed", &fixed);
-  reader->Get("identify_ratios", &identify_ratios);
-  reader->Get("identify_markers", &identify_markers);
-  reader->Get("identify_session_bases", &identify_session_bases);
-  reader->Get("initialize_bases", &initialize_bases);
-  reader->GetLength("orientation_length", &orientation_length);
-  reader->Get("identifiability_tolerance", &identifiability_tolerance);
-  reader->GetLength("bound_length", &bounds.length);
-  reader->GetAngleDeg("bound_angle_deg", &bounds.angle);
-  reader->Get("bound_ratio", &bounds.ratio);
-  reader->GetLength("bound_marker", &bounds.marker);
-  reader->GetLength("bound_base_length", &bounds.base_length);
-  reader->GetAngleDeg("bound_base_angle_deg", &bounds.base_angle);
-  reader->GetAngleDeg("bound_joint_error_deg", &bounds.joint_error);
-  ReadPriorOptions(reader, &prior);
+const OptionTable<ErrorModelOptions>& ErrorModelOptions::Table() {
+  using O = ErrorModelOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("error model")
+          .Add("fixed", &O::fixed, "parameter names or groups held at their start value")
+          .Add("identify_ratios", &O::identify_ratios, "identify the reduction ratios (robots with drives)")
+          .Add("identify_markers", &O::identify_markers, "identify marker offsets (datasets with a marker column)")
+          .Add("identify_session_bases", &O::identify_session_bases, "identify each session's base")
+          .Add("initialize_bases", &O::initialize_bases, "place bases, tool and markers in closed form first")
+          .Add("orientation_length", OptionUnit::kLength, &O::orientation_length,
+               "weight of orientation against position, per rad", Positive())
+          .Add("identifiability_tolerance", &O::identifiability_tolerance,
+               "sine below which a Jacobian column counts as dependent", Between(0, 1, true, true))
+          .Include(ErrorModelBounds::Table(), &O::bounds)
+          .AddRead({"prior", "on, off or a map", "off",
+                    "Gaussian priors: on (defaults by kind), or sd by kind or name (priors.cc)"},
+                   [](OptionsReader* reader, O* o) { ReadPriorOptions(reader, &o->prior); })
+          .Document({"prior_noise", "length", "0 m", "noise of the prior's pseudo-residuals; 0: estimated"})
+          .Rule({"prior_noise", "prior"}, [](const O& o) -> std::string {
+            if (!(o.prior.noise >= 0.0) || !std::isfinite(o.prior.noise)) return "prior_noise must be finite and >= 0";
+            for (const auto& [key, sd] : o.prior.sd) {
+              if (!(sd >= 0.0) || !std::isfinite(sd)) return "prior: " + key + " must be finite and >= 0";
+            }
+            return "";
+          });
+  return table;
 }
+
+bool ErrorModelOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 ErrorModelProblem::~ErrorModelProblem() = default;
 ErrorModelProblem::ErrorModelProblem(const ErrorModelProblem&) = default;
@@ -94,16 +109,53 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   if (!options.IsValid(&why)) throw std::invalid_argument("error model options: " + OneLine(why));
   if (!start.has_model()) throw std::invalid_argument("error model: the robot has no model");
   const int n = start.dof();
-  if (controller.dof() != n) throw std::invalid_argument("error model: the controller and the model differ in joint count");
+  if (controller.dof() != n)
+    throw std::invalid_argument("error model: the controller and the model differ in joint count");
   data.Validate(n);
   if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
   if (start.drives) start.drives->Validate(n);
   start.ValidateJointLevel();
   joint_errors_active_ = !start.joint_errors.empty();
   coefficient_joints_ = start.joint_errors.CoefficientJoints();
-  for (const auto& t : start.joint_errors.terms) gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
+  for (const auto& t : start.joint_errors.terms)
+    gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
 
-  // Rows: actual angles at the start's ratios, marker and session slots, orientation.
+  const RowSummary summary = TabulateRows();
+  FindJointParameters();
+  ListCandidates();
+  std::map<std::string, std::string> reasons;  // the first reason given for a parameter is kept
+  HoldFixedByOptions(&reasons);
+  HoldByConstruction(summary, &reasons);
+  for (const auto& p : candidates_) {
+    const auto it = reasons.find(p.name);
+    if (it != reasons.end()) held_.push_back({p, it->second, false});
+  }
+  Build();
+  MeasureRegressors();
+  AssignPriors();
+  for (const auto& [key, sd] : options.prior.sd) {
+    const auto& kinds = PriorOptions::Kinds();
+    const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
+                       std::any_of(candidates_.begin(), candidates_.end(),
+                                   [&](const ErrorModelParameter& p) { return p.name == key; });
+    if (!known) {
+      std::string list;
+      for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("error model: prior: '" + key + "' is neither a kind (" + list +
+                                  ") nor a parameter of this robot and dataset");
+    }
+  }
+
+  if (num_residuals_ <= num_parameters()) {
+    throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(num_rows()) + " rows give " +
+                                std::to_string(num_residuals_) + " residuals for " + std::to_string(num_parameters()) +
+                                " free parameters (add poses or fix parameters)");
+  }
+}
+
+ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
+  const Dataset& data = *data_;
+  const int n = start_.dof();
   std::set<std::string> marker_set;
   std::set<int> session_set;
   for (const Measurement& m : data.rows) {
@@ -112,71 +164,75 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   }
   marker_ids_.assign(marker_set.begin(), marker_set.end());
   session_ids_.assign(session_set.begin(), session_set.end());
-  for (const auto& id : marker_ids_) start.MarkerPosition(id);  // throws, naming the id
+  for (const auto& id : marker_ids_) start_.MarkerPosition(id);  // throws, naming the id
 
   const int rows = static_cast<int>(data.rows.size());
   auto per_row = std::make_shared<Rows>();
-  std::vector<double>& q_ref = per_row->q_ref;
-  std::vector<int>& row_marker = per_row->marker;
-  std::vector<int>& row_session = per_row->session;
-  std::vector<char>& row_orientation = per_row->orientation;
-  q_ref.resize(static_cast<size_t>(rows) * n);
-  row_marker.resize(rows);
-  row_session.resize(rows);
-  row_orientation.resize(rows);
-  bool any_session0 = false, all_marked = true, any_orientation = false;
-  const bool previous_used = start.joint_errors.uses_previous();
-  const std::vector<Dataset::Previous> previous = previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
+  per_row->q_ref.resize(static_cast<size_t>(rows) * n);
+  per_row->marker.resize(rows);
+  per_row->session.resize(rows);
+  per_row->orientation.resize(rows);
+  const bool previous_used = start_.joint_errors.uses_previous();
+  const std::vector<Dataset::Previous> previous =
+      previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
   if (previous_used) {
     per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
     per_row->has_previous.assign(rows, 0);
   }
+  RowSummary summary;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
-    const Eigen::VectorXd q = DriveAngles(controller, start, m);
+    const Eigen::VectorXd q = DriveAngles(controller_, start_, m);
     if (previous_used) {
       if (const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i])) {
         const std::vector<int64_t>* enc = data.PreviousEncoders(previous[i]);
         Eigen::Map<Eigen::VectorXd>(&per_row->q_prev_ref[static_cast<size_t>(i) * n], n) =
-            DriveAngles(controller, start, *q_prev, enc ? *enc : std::vector<int64_t>{});
+            DriveAngles(controller_, start_, *q_prev, enc ? *enc : std::vector<int64_t>{});
         per_row->has_previous[i] = 1;
       }
     }
-    if (!q.allFinite()) throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
-    Eigen::Map<Eigen::VectorXd>(&q_ref[static_cast<size_t>(i) * n], n) = q;
-    row_marker[i] = m.marker.empty()
-                         ? -1
-                         : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) - marker_ids_.begin());
-    row_session[i] = m.session == 0
-                          ? -1
-                          : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) - session_ids_.begin());
-    row_orientation[i] = m.orientation.has_value();
+    if (!q.allFinite())
+      throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
+    Eigen::Map<Eigen::VectorXd>(&per_row->q_ref[static_cast<size_t>(i) * n], n) = q;
+    per_row->marker[i] = m.marker.empty()
+                             ? -1
+                             : static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), m.marker) -
+                                                marker_ids_.begin());
+    per_row->session[i] = m.session == 0
+                              ? -1
+                              : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) -
+                                                 session_ids_.begin());
+    per_row->orientation[i] = m.orientation.has_value();
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
     }
-    any_session0 |= m.session == 0;
-    all_marked &= !m.marker.empty();
-    any_orientation |= m.orientation.has_value();
+    summary.any_session0 |= m.session == 0;
+    summary.all_marked &= !m.marker.empty();
+    summary.any_orientation |= m.orientation.has_value();
     num_residuals_ += m.orientation ? 6 : 3;
   }
   rows_ = std::move(per_row);
+  return summary;
+}
 
+void ErrorModelProblem::FindJointParameters() {
   // The parameter through which each joint variable enters (its derivative is the joint's column).
-  joint_parameter_.assign(n, -1);
-  if (const auto* chain = dynamic_cast<const ChainModel*>(&start.model())) {
+  joint_parameter_.assign(start_.dof(), -1);
+  if (const auto* chain = dynamic_cast<const ChainModel*>(&start_.model())) {
     for (const auto& op : chain->ops()) {
       if (op.joint >= 0) joint_parameter_[op.joint] = op.parameter;
     }
   }
+}
 
-  // Candidates, in canonical order.
-  const KinematicModel& model = start.model();
+void ErrorModelProblem::ListCandidates() {
+  const KinematicModel& model = start_.model();
   const Eigen::VectorXd& values = model.Parameters();
   for (int j = 0; j < model.num_parameters(); ++j) {
     const ParameterInfo& info = model.parameter_info()[j];
     ErrorModelParameter p;
     p.name = info.name;
-    p.group = info.group == ParameterInfo::Group::kJoint ? Group::kJoint
+    p.group = info.group == ParameterInfo::Group::kJoint  ? Group::kJoint
               : info.group == ParameterInfo::Group::kBase ? Group::kBase
                                                           : Group::kTool;
     p.kind = info.kind == ParameterInfo::Kind::kLength ? Kind::kLength : Kind::kAngle;
@@ -185,8 +241,8 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     p.start = values[j];
     candidates_.push_back(p);
   }
-  if (start.drives) {
-    for (int i = 0; i < n; ++i) {
+  if (start_.drives) {
+    for (int i = 0; i < start_.dof(); ++i) {
       ErrorModelParameter p;
       p.name = "ratio_" + std::to_string(i + 1);
       p.group = Group::kRatio;
@@ -196,27 +252,26 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       candidates_.push_back(p);
     }
   }
-  {
-    const std::vector<std::string> names = start.joint_errors.CoefficientNames();
-    const std::vector<int> joints = start.joint_errors.CoefficientJoints();
-    const std::vector<JointErrorTerm::CoefficientKind> kinds = start.joint_errors.CoefficientKinds();
-    const Eigen::VectorXd c = start.joint_errors.Coefficients();
-    for (int k = 0; k < static_cast<int>(names.size()); ++k) {
-      ErrorModelParameter p;
-      p.name = names[k];
-      p.group = Group::kJointError;
-      p.kind = Kind::kCoefficient;
-      p.joint = joints[k];
-      p.coefficient = k;
-      p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
-               : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
-                                                                               : "rad";
-      p.start = c[k];
-      candidates_.push_back(p);
-    }
+  const JointErrors& joint_errors = start_.joint_errors;
+  const std::vector<std::string> names = joint_errors.CoefficientNames();
+  const std::vector<int> joints = joint_errors.CoefficientJoints();
+  const std::vector<JointErrorTerm::CoefficientKind> kinds = joint_errors.CoefficientKinds();
+  const Eigen::VectorXd c = joint_errors.Coefficients();
+  for (int k = 0; k < static_cast<int>(names.size()); ++k) {
+    ErrorModelParameter p;
+    p.name = names[k];
+    p.group = Group::kJointError;
+    p.kind = Kind::kCoefficient;
+    p.joint = joints[k];
+    p.coefficient = k;
+    p.unit = kinds[k] == JointErrorTerm::CoefficientKind::kTime             ? "s"
+             : kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength ? "rad/m"
+                                                                            : "rad";
+    p.start = c[k];
+    candidates_.push_back(p);
   }
   for (const auto& id : marker_ids_) {
-    const Eigen::Vector3d position = start.MarkerPosition(id);
+    const Eigen::Vector3d position = start_.MarkerPosition(id);
     for (int a = 0; a < 3; ++a) {
       ErrorModelParameter p;
       p.name = "marker_" + id + "_" + kAxisNames[a];
@@ -229,7 +284,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     }
   }
   for (int k : session_ids_) {
-    const Vector6d pose = XyzRpy(start.SessionBase(k));
+    const Vector6d pose = XyzRpy(start_.SessionBase(k));
     for (int a = 0; a < 6; ++a) {
       ErrorModelParameter p;
       p.name = "session_" + std::to_string(k) + "_" + kAxisNames[a];
@@ -241,11 +296,10 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       candidates_.push_back(p);
     }
   }
+}
 
-  // Held by the options or by construction. The first reason given for a parameter is kept.
-  std::map<std::string, std::string> reasons;
-  const auto hold = [&](const ErrorModelParameter& p, const std::string& reason) { reasons.emplace(p.name, reason); };
-  for (const std::string& name : options.fixed) {
+void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* reasons) const {
+  for (const std::string& name : options_.fixed) {
     bool matched = false;
     for (const auto& p : candidates_) {
       const bool group_match =
@@ -255,7 +309,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
           (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1)) ||
           (p.group == Group::kJointError && (name == "joint_errors" || p.name.rfind(name + "_", 0) == 0));
       if (group_match || p.name == name) {
-        hold(p, "fixed by the options");
+        reasons->emplace(p.name, "fixed by the options");
         matched = true;
       }
     }
@@ -264,70 +318,46 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
       for (const auto& p : candidates_) list += (list.empty() ? "" : ", ") + p.name;
       throw std::invalid_argument("error model: cannot fix '" + name +
                                   "': not a parameter of this robot and dataset (groups: base, tool, ratios, markers, "
-                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " + list + ")");
+                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " +
+                                  list + ")");
     }
   }
-  ratios_active_ = start.drives && options.identify_ratios && (data.HasEncoders() || controller.drives);
+}
+
+void ErrorModelProblem::HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons) {
+  const auto hold = [&](const ErrorModelParameter& p, const std::string& reason) { reasons->emplace(p.name, reason); };
+  const KinematicModel& model = start_.model();
+  ratios_active_ = start_.drives && options_.identify_ratios && (data_->HasEncoders() || controller_.drives);
   for (const auto& p : candidates_) {
-    if ((p.group == Group::kJoint || p.group == Group::kTool || p.group == Group::kBase) &&
-        !model.FreeMask()[p.model_index]) {
-      hold(p, "fixed in the robot's free mask");
-    }
+    const bool model_parameter = p.group == Group::kJoint || p.group == Group::kTool || p.group == Group::kBase;
+    if (model_parameter && !model.FreeMask()[p.model_index]) hold(p, "fixed in the robot's free mask");
     if (p.group == Group::kRatio && !ratios_active_) {
-      hold(p, !options.identify_ratios ? "identify_ratios is off"
-                                       : "no encoder counts and no controller drives: the ratios have no effect");
+      hold(p, !options_.identify_ratios ? "identify_ratios is off"
+                                        : "no encoder counts and no controller drives: the ratios have no effect");
     }
-    if (p.group == Group::kMarker && !options.identify_markers) hold(p, "identify_markers is off");
-    if (p.group == Group::kSession && !options.identify_session_bases) hold(p, "identify_session_bases is off");
-    if (p.group == Group::kBase && !any_session0) hold(p, "no row in session 0: the model's base has no effect");
-    if (p.group == Group::kJoint && model.convention() == "hayati") {
-      const ParameterInfo& info = model.parameter_info()[p.model_index];
-      if (info.key == "beta" && HayatiBetaIsRedundant(model, info.joint)) {
-        const std::string i = std::to_string(info.joint), before = std::to_string(info.joint - 1);
-        hold(p, info.joint == 1 ? "Hayati's beta where axis 1 is not parallel to the base's z: redundant with the base"
-                                : "Hayati's beta where axes " + before + " and " + i + " are not parallel: redundant "
-                                  "with d_" + before + " and theta_" + before);
-      }
+    if (p.group == Group::kMarker && !options_.identify_markers) hold(p, "identify_markers is off");
+    if (p.group == Group::kSession && !options_.identify_session_bases) hold(p, "identify_session_bases is off");
+    if (p.group == Group::kBase && !summary.any_session0)
+      hold(p, "no row in session 0: the model's base has no effect");
+    if (model_parameter) {
+      const std::string redundant = model.RedundantParameterReason(p.model_index);
+      if (!redundant.empty()) hold(p, redundant);
     }
   }
   bool markers_free = true;
   for (const auto& p : candidates_) {
-    if (p.group == Group::kMarker && reasons.count(p.name)) markers_free = false;
+    if (p.group == Group::kMarker && reasons->count(p.name)) markers_free = false;
   }
   const bool no_marker = marker_ids_.empty();
   for (const auto& p : candidates_) {
     if (p.group != Group::kTool) continue;
     const bool translation = p.kind == Kind::kLength;
-    if (translation && all_marked && markers_free) {
+    if (translation && summary.all_marked && markers_free) {
       hold(p, "redundant with the marker offsets (every row names a marker)");
-    } else if (!translation && !any_orientation && (no_marker || markers_free)) {
+    } else if (!translation && !summary.any_orientation && (no_marker || markers_free)) {
       hold(p, no_marker ? "no effect on position measurements of the tool origin"
                         : "redundant with the marker offsets (no orientation measured)");
     }
-  }
-  for (const auto& p : candidates_) {
-    const auto it = reasons.find(p.name);
-    if (it != reasons.end()) held_.push_back({p, it->second, false});
-  }
-  Build();
-  MeasureRegressors();
-  AssignPriors();
-  for (const auto& [key, sd] : options.prior.sd) {
-    const auto& kinds = PriorOptions::Kinds();
-    const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
-                       std::any_of(candidates_.begin(), candidates_.end(), [&](const ErrorModelParameter& p) { return p.name == key; });
-    if (!known) {
-      std::string list;
-      for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-      throw std::invalid_argument("error model: prior: '" + key + "' is neither a kind (" + list +
-                                  ") nor a parameter of this robot and dataset");
-    }
-  }
-
-  if (num_residuals_ <= num_parameters()) {
-    throw std::invalid_argument(data.source + ": too few measurements: " + std::to_string(rows) + " rows give " +
-                                std::to_string(num_residuals_) + " residuals for " + std::to_string(num_parameters()) +
-                                " free parameters (add poses or fix parameters)");
   }
 }
 
@@ -379,14 +409,16 @@ void ErrorModelProblem::Build() {
         block_index = &joint_error_block_;
         break;
       case Group::kMarker: {
-        const int slot = static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
+        const int slot =
+            static_cast<int>(std::lower_bound(marker_ids_.begin(), marker_ids_.end(), p.marker) - marker_ids_.begin());
         marker_column_[slot][p.axis] = i;
         block = "marker:" + p.marker;
         block_index = &marker_block_[slot];
         break;
       }
       case Group::kSession: {
-        const int slot = static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), p.session) - session_ids_.begin());
+        const int slot = static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), p.session) -
+                                          session_ids_.begin());
         session_column_[slot][p.axis] = i;
         block = "session:" + std::to_string(p.session);
         block_index = &session_block_[slot];
@@ -454,13 +486,25 @@ void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) c
     const bool length = p.kind == Kind::kLength;
     double half = 0.0;
     switch (p.group) {
-      case Group::kJoint: half = length ? b.length : b.angle; break;
-      case Group::kTool: half = length ? b.marker : b.angle; break;
-      case Group::kRatio: half = b.ratio; break;
-      case Group::kMarker: half = b.marker; break;
+      case Group::kJoint:
+        half = length ? b.length : b.angle;
+        break;
+      case Group::kTool:
+        half = length ? b.marker : b.angle;
+        break;
+      case Group::kRatio:
+        half = b.ratio;
+        break;
+      case Group::kMarker:
+        half = b.marker;
+        break;
       case Group::kBase:
-      case Group::kSession: half = length ? b.base_length : b.base_angle; break;
-      case Group::kJointError: half = b.joint_error / regressor_rms_[p.coefficient]; break;
+      case Group::kSession:
+        half = length ? b.base_length : b.base_angle;
+        break;
+      case Group::kJointError:
+        half = b.joint_error / regressor_rms_[p.coefficient];
+        break;
     }
     (*lower)[i] = p.start - half;
     (*upper)[i] = p.start + half;
@@ -485,8 +529,8 @@ void ErrorModelProblem::MeasureRegressors() {
       if (!rows_->has_previous.empty() && rows_->has_previous[row]) {
         previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n);
       }
-      const Eigen::VectorXd phi = EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar,
-                                                     previous.size() ? &previous : nullptr);
+      const Eigen::VectorXd phi =
+          EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar, previous.size() ? &previous : nullptr);
       for (int k = 0; k < K; ++k) sum2[k] += phi[k] * phi[k];
     }
   }
@@ -641,7 +685,8 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
     if (c < 0) continue;
     if (session >= 0 && free_[c].group == Group::kBase) continue;
     J.col(c) = Jm.col(j);
-    if (gravity_geometry && free_[c].group != Group::kBase) J.col(c) += Jq * map.dq_dparameters.col(static_cast<Eigen::Index>(j));
+    if (gravity_geometry && free_[c].group != Group::kBase)
+      J.col(c) += Jq * map.dq_dparameters.col(static_cast<Eigen::Index>(j));
   }
   for (int i = 0; i < n; ++i) {
     const int c = ratio_column_[i];
@@ -704,10 +749,14 @@ double ErrorModelProblem::ReportScale(const ErrorModelParameter& p) const {
 
 std::string ErrorModelProblem::Unit(const ErrorModelParameter& p) {
   switch (p.kind) {
-    case Kind::kLength: return "m";
-    case Kind::kAngle: return "rad";
-    case Kind::kRatioScale: return "";
-    case Kind::kCoefficient: return p.unit;
+    case Kind::kLength:
+      return "m";
+    case Kind::kAngle:
+      return "rad";
+    case Kind::kRatioScale:
+      return "";
+    case Kind::kCoefficient:
+      return p.unit;
   }
   return "";
 }

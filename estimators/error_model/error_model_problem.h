@@ -1,5 +1,5 @@
 #pragma once
-// ErrorModelProblem: the error model that every least-squares-type estimator minimises (issue 4):
+// ErrorModelProblem: the error model that every least-squares-type estimator minimises:
 // the difference between measured and predicted marker positions (and tool orientations, where a row
 // has one) over the free parameters of a robot.
 //
@@ -58,17 +58,21 @@ namespace kincal {
 // Bounds around the start value (after the closed-form placement of bases, tool and markers) for the
 // bounded solvers (NLopt, Ipopt).
 struct ErrorModelBounds {
-  double length = 0.010;                  // m: a_i, d_i (and prismatic offsets)
+  double length = 0.010;  // m: a_i, d_i (and prismatic offsets)
   // rad: alpha_i, theta_i, tool angles. 5 deg: a controller's joint zeros can sit 2 deg from the nominal
   // ones (the IRB 120 of irb120_wu2015), and a bound at 2 deg decided one of them.
   double angle = 5.0 * M_PI / 180.0;
-  double ratio = 0.05;                    // relative: s_i in [1 - ratio, 1 + ratio]
-  double marker = 0.05;                   // m: marker offsets, and tool_x/y/z (the marker without markers)
-  double base_length = 0.10;              // m: base and session-base translations
+  double ratio = 0.05;                      // relative: s_i in [1 - ratio, 1 + ratio]
+  double marker = 0.05;                     // m: marker offsets, and tool_x/y/z (the marker without markers)
+  double base_length = 0.10;                // m: base and session-base translations
   double base_angle = 10.0 * M_PI / 180.0;  // rad: base and session-base rotations
   // rad: joint error coefficients, as the RMS over the dataset of the joint offset each one makes
   // (its bound is this over the RMS of its regressor).
   double joint_error = 0.5 * M_PI / 180.0;
+
+  // Keys bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length,
+  // bound_base_angle_deg, bound_joint_error_deg.
+  static const OptionTable<ErrorModelBounds>& Table();
 };
 
 // Gaussian priors (maximum a posteriori; figaroh-plus and industrial_calibration do the same): each
@@ -79,7 +83,8 @@ struct ErrorModelBounds {
 //   prismatic joint), ratio 0.005 (relative), and per joint error type the RMS joint offset one
 //   coefficient makes over the dataset, or per unit regressor (1 m of lever arm, 1 rad/s) where the
 //   dataset moves it less: gravity 0.5 mrad, harmonic 0.1 mrad, backlash 0.1 mrad, approach 0.1 mrad
-//   (a strain-wave gear's transmission error and lost motion are tens of arc seconds). Base, tool, markers and session bases: no prior (free), unless named.
+//   (a strain-wave gear's transmission error and lost motion are tens of arc seconds). Base, tool, markers and session
+//   bases: no prior (free), unless named.
 // Keys in the estimator's options: `prior: on|off`, or a map by kind or parameter name, values with a
 // unit ("1mm", "2mrad", "0.1deg"; plain numbers SI), e.g. `prior: {length: 0.5mm, theta_2: 5mrad}` (the
 // kinds not given keep their defaults; `none` removes a prior); `prior_noise` (length, per residual;
@@ -103,25 +108,23 @@ struct ErrorModelOptions {
   // "joint_<i>" (row i), "joint_errors", or a joint error type ("gravity", "harmonic", "backlash",
   // "approach").
   std::vector<std::string> fixed;
-  bool identify_ratios = true;            // when the robot has drives (and the data gives them meaning)
-  bool identify_markers = true;           // when the dataset has a `marker` column
-  bool identify_session_bases = true;     // when the dataset has a `session` column
+  bool identify_ratios = true;         // when the robot has drives (and the data gives them meaning)
+  bool identify_markers = true;        // when the dataset has a `marker` column
+  bool identify_session_bases = true;  // when the dataset has a `session` column
   // Place the bases (session by session), the tool's translation and the markers in closed form before
   // solving (start_placement.h); what `fixed` holds stays as given. Bounds are centred on the placed start.
   bool initialize_bases = true;
-  double orientation_length = 0.1;        // m per rad (L above): 0.1 m equates 1 mrad and 0.1 mm
+  double orientation_length = 0.1;  // m per rad (L above): 0.1 m equates 1 mrad and 0.1 mm
   // A parameter is not identifiable when its scaled Jacobian column lies within this sine of an angle
   // of the span of the columns kept before it (identifiability.h). Dimensionless.
   double identifiability_tolerance = 1e-6;
   ErrorModelBounds bounds;
   PriorOptions prior;
 
+  // The keys above (fixed, identify_ratios, identify_markers, identify_session_bases, initialize_bases,
+  // orientation_length (a length), identifiability_tolerance), the bounds', prior and prior_noise.
+  static const OptionTable<ErrorModelOptions>& Table();
   bool IsValid(std::string* why) const;
-  // Reads the keys above from an estimator's options (fixed, identify_ratios, identify_markers,
-  // identify_session_bases, initialize_bases, orientation_length (length), identifiability_tolerance,
-  // bound_length, bound_angle_deg, bound_ratio, bound_marker, bound_base_length, bound_base_angle_deg,
-  // bound_joint_error_deg, prior, prior_noise).
-  void Read(OptionsReader* reader);
 };
 
 struct ErrorModelParameter {
@@ -130,18 +133,18 @@ struct ErrorModelParameter {
   std::string name;
   Group group = Group::kJoint;
   Kind kind = Kind::kLength;
-  int model_index = -1;   // kJoint, kTool, kBase: index into model().Parameters()
-  int joint = -1;         // kRatio, kJointError: 0-based joint; kJoint: 0-based row
-  int coefficient = -1;   // kJointError: index into the robot's JointErrors::Coefficients()
-  std::string unit;       // kJointError: "rad/m", "rad" or "s"
-  std::string marker;     // kMarker: id
-  int session = 0;        // kSession: session id
-  int axis = 0;           // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
-  double start = 0.0;     // start value in x's units (SI; 1 for a ratio scale)
-  std::string prior_kind;  // "length", "angle", "joint_offset", "ratio", a joint error type; "" for base,
-                           // tool, markers and sessions
-  double prior_mean = 0.0; // x's units: the start value of the first problem (kept when re-analysed)
-  double prior_sd = 0.0;   // x's units; 0: no prior
+  int model_index = -1;     // kJoint, kTool, kBase: index into model().Parameters()
+  int joint = -1;           // kRatio, kJointError: 0-based joint; kJoint: 0-based row
+  int coefficient = -1;     // kJointError: index into the robot's JointErrors::Coefficients()
+  std::string unit;         // kJointError: "rad/m", "rad" or "s"
+  std::string marker;       // kMarker: id
+  int session = 0;          // kSession: session id
+  int axis = 0;             // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
+  double start = 0.0;       // start value in x's units (SI; 1 for a ratio scale)
+  std::string prior_kind;   // "length", "angle", "joint_offset", "ratio", a joint error type; "" for base,
+                            // tool, markers and sessions
+  double prior_mean = 0.0;  // x's units: the start value of the first problem (kept when re-analysed)
+  double prior_sd = 0.0;    // x's units; 0: no prior
   // What "determined by the data" is judged against: prior_sd, or without a prior the default of its
   // kind (lengths and angles for base, tool, markers and sessions). x's units.
   double reference_sd = 0.0;
@@ -165,15 +168,15 @@ class ErrorModelProblem {
   // its members are private to the problem.
   struct Workspace {
     std::unique_ptr<KinematicModel> model;
-    Eigen::VectorXd x;                              // the x the members below were set for
+    Eigen::VectorXd x;  // the x the members below were set for
     bool valid = false;
-    Eigen::VectorXd scale;                          // s_i per joint
-    std::vector<Eigen::Vector3d> markers;           // per marker slot, tool frame
-    std::vector<Vector6d> session_pose;             // xyz, rpy of each session slot's base
-    std::vector<Eigen::Isometry3d> session_base;    // T_meas_base per session slot
+    Eigen::VectorXd scale;                              // s_i per joint
+    std::vector<Eigen::Vector3d> markers;               // per marker slot, tool frame
+    std::vector<Vector6d> session_pose;                 // xyz, rpy of each session slot's base
+    std::vector<Eigen::Isometry3d> session_base;        // T_meas_base per session slot
     std::vector<Eigen::Isometry3d> session_from_base0;  // T_meas(k)_meas(0) = B_k B_0^-1
-    JointErrors joint_errors;                       // the start robot's terms with x's coefficients
-    Eigen::VectorXd qbar, qbar_previous, q;         // drive angles (and the previous pose's), actual angles
+    JointErrors joint_errors;                           // the start robot's terms with x's coefficients
+    Eigen::VectorXd qbar, qbar_previous, q;             // drive angles (and the previous pose's), actual angles
     JointErrorMap joint_error_map;
     Matrix6Xd J_model;
     Matrix6Xd J_joints;
@@ -181,8 +184,7 @@ class ErrorModelProblem {
 
   // Throws std::invalid_argument for bad input: joint counts, non-finite values, unknown marker ids,
   // unknown names in options.fixed, or fewer residuals than free parameters.
-  ErrorModelProblem(const Robot& start, const Robot& controller, const Dataset& data,
-                    const ErrorModelOptions& options);
+  ErrorModelProblem(const Robot& start, const Robot& controller, const Dataset& data, const ErrorModelOptions& options);
   ~ErrorModelProblem();
   ErrorModelProblem(const ErrorModelProblem&);
   ErrorModelProblem& operator=(const ErrorModelProblem&);
@@ -241,6 +243,18 @@ class ErrorModelProblem {
   bool has_ratios() const { return ratios_active_; }
 
  private:
+  // Construction, in order: per-row tables, the joint variables' parameters, every candidate, then the
+  // candidates held by the options and by construction (reasons keyed by name, first reason kept).
+  struct RowSummary {
+    bool any_session0 = false;     // a row in session 0 (the model's base has an effect)
+    bool all_marked = true;        // every row names a marker
+    bool any_orientation = false;  // a row measures the tool's orientation
+  };
+  RowSummary TabulateRows();
+  void FindJointParameters();
+  void ListCandidates();
+  void HoldFixedByOptions(std::map<std::string, std::string>* reasons) const;
+  void HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons);
   // Orders the candidates not held into x, blocks and column maps.
   void Build();
   void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
@@ -259,11 +273,11 @@ class ErrorModelProblem {
 
   // Per row, shared by copies (Hold) so that a million rows are stored once.
   struct Rows {
-    std::vector<double> q_ref;     // drive angles qbar with the start's ratios, n per row
+    std::vector<double> q_ref;       // drive angles qbar with the start's ratios, n per row
     std::vector<double> q_prev_ref;  // the same for the row's previous pose (when joint errors use it)
     std::vector<char> has_previous;
-    std::vector<int> marker;       // index into marker_ids_, -1 for the tool origin
-    std::vector<int> session;      // index into session_ids_, -1 for session 0
+    std::vector<int> marker;   // index into marker_ids_, -1 for the tool origin
+    std::vector<int> session;  // index into session_ids_, -1 for session 0
     std::vector<char> orientation;
   };
   std::shared_ptr<const Rows> rows_;
@@ -276,14 +290,14 @@ class ErrorModelProblem {
   std::vector<ErrorModelParameter> free_;
   std::vector<HeldParameter> held_;
   std::vector<ParameterBlock> blocks_;
-  std::vector<int> model_column_;   // per model parameter: x index or -1
-  std::vector<int> ratio_column_;   // per joint: x index or -1
-  std::vector<int> joint_error_column_;  // per joint error coefficient: x index or -1
-  std::vector<double> regressor_rms_;    // per joint error coefficient: RMS of its regressor over the rows
+  std::vector<int> model_column_;                   // per model parameter: x index or -1
+  std::vector<int> ratio_column_;                   // per joint: x index or -1
+  std::vector<int> joint_error_column_;             // per joint error coefficient: x index or -1
+  std::vector<double> regressor_rms_;               // per joint error coefficient: RMS of its regressor over the rows
   std::vector<std::array<int, 3>> marker_column_;   // per marker slot and axis: x index or -1
   std::vector<std::array<int, 6>> session_column_;  // per session slot and axis: x index or -1
-  std::vector<int> marker_block_;   // per marker slot: block index or -1
-  std::vector<int> session_block_;  // per session slot: block index or -1
+  std::vector<int> marker_block_;                   // per marker slot: block index or -1
+  std::vector<int> session_block_;                  // per session slot: block index or -1
   int geometry_block_ = -1, ratio_block_ = -1, joint_error_block_ = -1, base_block_ = -1;
   // Joint error terms in use (a copy of the start's), their regressors' needs.
   bool joint_errors_active_ = false;

@@ -14,16 +14,23 @@ using Group = ErrorModelParameter::Group;
 
 int Priority(Group g) {
   switch (g) {
-    case Group::kBase: return 0;
-    case Group::kSession: return 1;
-    case Group::kMarker: return 2;
-    case Group::kTool: return 3;
-    case Group::kRatio: return 4;
+    case Group::kBase:
+      return 0;
+    case Group::kSession:
+      return 1;
+    case Group::kMarker:
+      return 2;
+    case Group::kTool:
+      return 3;
+    case Group::kRatio:
+      return 4;
     // Joint error coefficients before the link geometry: a frame's own angle (theta_6 beside a marker
     // off the flange) is redundant with the tool once the gravity moments of that link re-mix, and must
     // not become "identifiable" through that re-mixing alone; the coefficients it would displace are not.
-    case Group::kJointError: return 5;
-    case Group::kJoint: return 6;
+    case Group::kJointError:
+      return 5;
+    case Group::kJoint:
+      return 6;
   }
   return 7;
 }

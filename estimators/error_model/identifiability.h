@@ -43,15 +43,15 @@ struct ObservabilityIndices {
 };
 
 struct IdentifiabilityAnalysis {
-  std::vector<int> identifiable;                 // indices into the analysed problem's x
+  std::vector<int> identifiable;  // indices into the analysed problem's x
   std::vector<int> unidentifiable;
   std::vector<std::string> unidentifiable_names;
   // Per unidentifiable parameter: "no effect on the measurements", or "redundant with" the kept parameters
   // that carry most of its column (largest least-squares coefficients in the scaled basis).
   std::vector<std::string> reasons;
   int rank = 0;
-  double condition_number = 0.0;                 // of the column-normalised J, identifiable columns
-  Eigen::VectorXd singular_values;               // same matrix, descending
+  double condition_number = 0.0;                   // of the column-normalised J, identifiable columns
+  Eigen::VectorXd singular_values;                 // same matrix, descending
   Eigen::VectorXd characteristic_singular_values;  // of J_c, descending
   ObservabilityIndices observability;
 };

@@ -36,9 +36,7 @@ RobustLoss::Type RobustLoss::TypeFromName(const std::string& name) {
   throw std::invalid_argument("unknown robust loss '" + name + "' (expected none, huber or cauchy)");
 }
 
-double NormalEquations::PositionRms() const {
-  return num_rows > 0 ? std::sqrt(position_squares / num_rows) : 0.0;
-}
+double NormalEquations::PositionRms() const { return num_rows > 0 ? std::sqrt(position_squares / num_rows) : 0.0; }
 
 NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, const Eigen::VectorXd& x,
                                           const RowWeighting& weighting, Accumulate what, bool with_prior) {

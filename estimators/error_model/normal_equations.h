@@ -44,8 +44,8 @@ struct NormalEquations {
   double irls_squares = 0.0;      // sum w rho'(s) s: the weighted sum of squares behind J^T J (sigma^2)
   double position_squares = 0.0;  // sum |r_position|^2, unweighted (the position RMS)
   int num_rows = 0;
-  int num_residuals = 0;           // of the rows with a positive weight (the m of sigma^2)
-  double PositionRms() const;     // m
+  int num_residuals = 0;       // of the rows with a positive weight (the m of sigma^2)
+  double PositionRms() const;  // m
 };
 
 enum class Accumulate { kCost, kGradient, kNormalEquations };

@@ -20,7 +20,8 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
   }
   const int q = static_cast<int>(used.size());
   Eigen::MatrixXd Cs(q, q);
-  for (int a = 0; a < q; ++a) for (int b = 0; b < q; ++b) Cs(a, b) = C(index[a], index[b]);
+  for (int a = 0; a < q; ++a)
+    for (int b = 0; b < q; ++b) Cs(a, b) = C(index[a], index[b]);
   auto ws = problem.NewWorkspace();
   Vector6d r;
   Matrix6Xd J;
@@ -48,7 +49,8 @@ Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
   const Eigen::VectorXd& lambda = eig.eigenvalues();
   const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(p);
-  for (Eigen::Index j = 0; j < p; ++j) if (lambda[j] > cut && lambda[j] > 0.0) inv[j] = 1.0 / lambda[j];
+  for (Eigen::Index j = 0; j < p; ++j)
+    if (lambda[j] > cut && lambda[j] > 0.0) inv[j] = 1.0 / lambda[j];
   return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
 }
 
@@ -135,7 +137,10 @@ std::vector<double> PredictionSd(const Robot& model, const Robot& controller, co
 }
 
 nlohmann::json UncertaintyCheck::ToJson() const {
-  return {{"rows", rows}, {"outside_support", outside_support}, {"coverage_3sigma", coverage}, {"coverage_3sigma_1d", coverage_1d}};
+  return {{"rows", rows},
+          {"outside_support", outside_support},
+          {"coverage_3sigma", coverage},
+          {"coverage_3sigma_1d", coverage_1d}};
 }
 
 UncertaintyCheck CheckUncertainty(const std::vector<double>& errors, const std::vector<double>& sd,

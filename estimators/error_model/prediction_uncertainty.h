@@ -5,8 +5,8 @@
 // (ErrorModelProblem::EvaluateRow, analytic), C: the fit's parameter covariance sigma^2 (J^T W J)^-1
 // (error_model.h; here with a pseudo-inverse that leaves out directions below 1e-12 of the largest
 // eigenvalue of the column-normalised J^T W J, so that a fit too ill-conditioned for the reported standard
-// deviations still predicts with an sd). The trace, not the largest eigenvalue: sd^2 is then the expected squared length of the
-// 3-D prediction error that comes from the parameters, the quantity a user compares with a 3-D error.
+// deviations still predicts with an sd). The trace, not the largest eigenvalue: sd^2 is then the expected squared
+// length of the 3-D prediction error that comes from the parameters, the quantity a user compares with a 3-D error.
 //
 // The covariance travels in the identify report (details.prediction_covariance of the stage, written by
 // every error-model estimator): parameter names, C in SI units of x (m, rad, the ratio scale, joint
@@ -26,10 +26,10 @@ namespace kincal {
 
 struct PredictionCovariance {
   static constexpr double kSupportFactor = 3.0;
-  std::vector<std::string> names;    // free parameters, x's order
-  Eigen::MatrixXd matrix;            // p x p, SI
-  double sigma = NAN;                // m, noise per residual
-  double median_train_sd = NAN;      // m, median of (1) over the training rows
+  std::vector<std::string> names;  // free parameters, x's order
+  Eigen::MatrixXd matrix;          // p x p, SI
+  double sigma = NAN;              // m, noise per residual
+  double median_train_sd = NAN;    // m, median of (1) over the training rows
   double SupportThreshold() const { return kSupportFactor * median_train_sd; }
 
   nlohmann::json ToJson() const;

@@ -24,7 +24,8 @@ double ParsePriorValue(const std::string& text) {
   std::string number = text.substr(0, end), unit = text.substr(end);
   while (!number.empty() && number.back() == ' ') number.pop_back();
   double value = 0.0;
-  if (!ParseDouble(number, &value)) throw std::invalid_argument("expected a number with an optional unit, got '" + text + "'");
+  if (!ParseDouble(number, &value))
+    throw std::invalid_argument("expected a number with an optional unit, got '" + text + "'");
   double to_si = 1.0;
   if (unit == "mrad") {
     to_si = 1e-3;
@@ -35,7 +36,8 @@ double ParsePriorValue(const std::string& text) {
   } else if (!unit.empty()) {
     to_si = LengthUnit(unit).to_si;  // throws, naming the accepted units
   }
-  if (!(value >= 0.0) || !std::isfinite(value)) throw std::invalid_argument("a prior standard deviation must be >= 0, got '" + text + "'");
+  if (!(value >= 0.0) || !std::isfinite(value))
+    throw std::invalid_argument("a prior standard deviation must be >= 0, got '" + text + "'");
   return value * to_si;
 }
 
@@ -95,20 +97,27 @@ void ErrorModelProblem::AssignPriors() {
     switch (p->group) {
       case Group::kJoint:
         p->prior_kind = p->model_index == joint_parameter_[p->joint] ? "joint_offset"
-                        : p->kind == Kind::kLength                    ? "length"
-                                                                      : "angle";
+                        : p->kind == Kind::kLength                   ? "length"
+                                                                     : "angle";
         break;
-      case Group::kRatio: p->prior_kind = "ratio"; break;
-      case Group::kJointError: p->prior_kind = p->name.substr(0, p->name.find('_')); break;
-      default: p->prior_kind.clear(); break;
+      case Group::kRatio:
+        p->prior_kind = "ratio";
+        break;
+      case Group::kJointError:
+        p->prior_kind = p->name.substr(0, p->name.find('_'));
+        break;
+      default:
+        p->prior_kind.clear();
+        break;
     }
     // Joint error kinds are given as the RMS joint offset one coefficient makes over the dataset, or
     // per unit of its regressor (1 m of lever arm, 1 rad/s) where the dataset moves it less: a regressor
     // that hardly varies over the poses must not give its coefficient a prior wide enough to predict
     // metres wherever it does vary.
-    const double per_unit =
-        p->group == Group::kJointError ? 1.0 / std::max(regressor_rms_[p->coefficient], 1.0) : 1.0;
-    const std::string reference_kind = !p->prior_kind.empty() ? p->prior_kind : p->kind == Kind::kLength ? "length" : "angle";
+    const double per_unit = p->group == Group::kJointError ? 1.0 / std::max(regressor_rms_[p->coefficient], 1.0) : 1.0;
+    const std::string reference_kind = !p->prior_kind.empty()     ? p->prior_kind
+                                       : p->kind == Kind::kLength ? "length"
+                                                                  : "angle";
     p->reference_sd = PriorOptions::DefaultSd(reference_kind) * per_unit;
     p->prior_mean = p->start;
     p->prior_sd = 0.0;

@@ -3,37 +3,19 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "framework/units.h"
-
 namespace kincal {
 
-bool RowWeightingOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (loss != "none" && loss != "huber" && loss != "cauchy") {
-    return fail("loss must be none, huber or cauchy, got '" + loss + "'");
-  }
-  if (!(loss_scale > 0.0) || !std::isfinite(loss_scale)) return fail("loss_scale must be positive");
-  for (double w : weights) {
-    if (!(w >= 0.0) || !std::isfinite(w)) return fail("weights must be finite and >= 0");
-  }
-  return true;
+const OptionTable<RowWeightingOptions>& RowWeightingOptions::Table() {
+  using O = RowWeightingOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("row weighting")
+          .Add("loss", &O::loss, "robust loss: none, huber or cauchy", OneOf({"none", "huber", "cauchy"}))
+          .Add("loss_scale", OptionUnit::kLength, &O::loss_scale, "where the loss leaves the quadratic", Positive())
+          .Add("weights", &O::weights, "one weight per dataset row; empty: all 1", EachNonNegative());
+  return table;
 }
 
-void RowWeightingOptions::Read(OptionsReader* reader) {
-  reader->Get("loss", &loss);
-  reader->GetLength("loss_scale", &loss_scale);
-  std::vector<std::string> texts;
-  reader->Get("weights", &texts);
-  if (!texts.empty()) weights.clear();
-  for (const auto& text : texts) {
-    double v = 0.0;
-    if (!ParseDouble(text, &v)) reader->Fail("weights", "expected a list of numbers, got '" + text + "'");
-    weights.push_back(v);
-  }
-}
+bool RowWeightingOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 RowWeighting RowWeightingOptions::Weighting(size_t num_rows, const std::string& estimator) const {
   if (!weights.empty() && weights.size() != num_rows) {

@@ -14,9 +14,9 @@ struct RowWeightingOptions {
   double loss_scale = 1e-4;     // m, where the loss leaves the quadratic (YAML: a length, e.g. 0.1mm)
   std::vector<double> weights;  // one per dataset row (>= 0); empty = all 1
 
-  bool IsValid(std::string* why) const;
   // Keys loss, loss_scale, weights.
-  void Read(OptionsReader* reader);
+  static const OptionTable<RowWeightingOptions>& Table();
+  bool IsValid(std::string* why) const;
   // The weighting of a dataset of `num_rows` rows; throws std::invalid_argument naming `estimator` when
   // weights are given but not one per row.
   RowWeighting Weighting(size_t num_rows, const std::string& estimator) const;

@@ -39,7 +39,8 @@ bool SolveMinimumNorm(const Eigen::MatrixXd& N, const Eigen::VectorXd& b, double
   const double floor = relative * lambda.maxCoeff();
   Eigen::VectorXd inv = lambda.unaryExpr([&](double v) { return v > floor ? 1.0 / v : 0.0; });
   *full_rank = lambda.minCoeff() > floor;
-  *x = d_inv.asDiagonal() * (eig.eigenvectors() * (inv.asDiagonal() * (eig.eigenvectors().transpose() * (d_inv.asDiagonal() * b))));
+  *x = d_inv.asDiagonal() *
+       (eig.eigenvectors() * (inv.asDiagonal() * (eig.eigenvectors().transpose() * (d_inv.asDiagonal() * b))));
   return true;
 }
 
@@ -58,7 +59,7 @@ struct Session {
 };
 
 struct Slot {
-  std::string marker;   // "" for the tool origin
+  std::string marker;  // "" for the tool origin
   bool free = false;
   Eigen::Vector3d f = Eigen::Vector3d::Zero();  // flange frame
 };
@@ -110,7 +111,8 @@ bool LinearRotation(const std::vector<Row>& rows, int session, const std::vector
 }
 
 // Step 2: every free t_s and f_k given the rotations, one linear least-squares step (minimum norm).
-void SolveTranslationsAndPoints(const std::vector<Row>& rows, std::vector<Session>* sessions, std::vector<Slot>* slots) {
+void SolveTranslationsAndPoints(const std::vector<Row>& rows, std::vector<Session>* sessions,
+                                std::vector<Slot>* slots) {
   std::vector<int> session_col(sessions->size(), -1), slot_col(slots->size(), -1);
   int p = 0;
   for (size_t s = 0; s < sessions->size(); ++s) {
@@ -162,7 +164,8 @@ bool RegisterSession(const std::vector<Row>& rows, const std::vector<Slot>& slot
 
 }  // namespace
 
-StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options, Robot* robot) {
+StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
+                          Robot* robot) {
   StartPlacement out;
   if (!options.initialize_bases) return out;
   KinematicModel& model = robot->model();
@@ -206,7 +209,8 @@ StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const Er
       slot.marker = m.marker;
       slot.free = m.marker.empty() ? tool_free
                                    : options.identify_markers && !Holds(options, "markers", "marker_" + m.marker + "_");
-      slot.f = m.marker.empty() ? model.tool().translation() : Eigen::Vector3d(model.tool() * robot->MarkerPosition(m.marker));
+      slot.f = m.marker.empty() ? model.tool().translation()
+                                : Eigen::Vector3d(model.tool() * robot->MarkerPosition(m.marker));
       k = slot_index.emplace(m.marker, static_cast<int>(slots.size())).first;
       slots.push_back(slot);
     }

@@ -21,7 +21,8 @@ std::string Sci(double v) {
 }  // namespace
 
 std::string WeakParameter::Describe() const {
-  std::string s = name + " (data sd " + Sci(data_sd) + " against " + (has_prior ? "its prior " : "") + Sci(reference_sd);
+  std::string s =
+      name + " (data sd " + Sci(data_sd) + " against " + (has_prior ? "its prior " : "") + Sci(reference_sd);
   if (!trades_against.empty()) {
     s += "; trades against";
     for (size_t i = 0; i < trades_against.size(); ++i) s += (i ? ", " : " ") + trades_against[i];
@@ -74,7 +75,8 @@ Eigen::VectorXd DataStddev(const ErrorModelProblem& problem, const Eigen::Matrix
     if (!trades || worst_k < 0) continue;
     std::vector<int> order(p);
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(V(a, worst_k)) > std::abs(V(b, worst_k)); });
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return std::abs(V(a, worst_k)) > std::abs(V(b, worst_k)); });
     const double top = std::abs(V(order[0], worst_k));
     for (int o : order) {
       if (o == i) continue;
@@ -134,8 +136,9 @@ std::vector<int> ChooseWeakToHold(const ErrorModelProblem& problem, const Eigen:
     active.erase(active.begin() + pick);
   }
   // Without a prior, what holding the others determined is no longer weak.
-  weak->erase(std::remove_if(weak->begin(), weak->end(), [](const WeakParameter& w) { return !w.held && !w.has_prior; }),
-              weak->end());
+  weak->erase(
+      std::remove_if(weak->begin(), weak->end(), [](const WeakParameter& w) { return !w.held && !w.has_prior; }),
+      weak->end());
   return hold;
 }
 

@@ -22,9 +22,9 @@ struct WeakParameter {
   double data_sd = 0.0;       // from the data alone, x's units (infinite: not determined at all)
   double reference_sd = 0.0;  // prior sd, or the default of its kind, x's units
   bool has_prior = false;
-  bool held = false;          // held at its start value because it has no prior
+  bool held = false;                        // held at its start value because it has no prior
   std::vector<std::string> trades_against;  // 1-4 names
-  std::string Describe() const;  // "alpha_5 (data sd 3.1e-02 against 2.0e-03; trades against a_5, d_5)"
+  std::string Describe() const;             // "alpha_5 (data sd 3.1e-02 against 2.0e-03; trades against a_5, d_5)"
 };
 
 // Standard deviations from the data alone of the parameters `subset` (indices into problem.parameters();

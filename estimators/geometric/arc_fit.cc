@@ -21,18 +21,23 @@ std::string Mm(double metres) {
 
 }  // namespace
 
-bool ArcFitOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!(min_spread >= 0.0) || !std::isfinite(min_spread)) return fail("min_spread must be finite and >= 0");
-  if (!(min_curvature_ratio >= 0.0) || !std::isfinite(min_curvature_ratio)) {
-    return fail("min_curvature_ratio must be finite and >= 0");
-  }
-  if (max_iterations < 1) return fail("max_iterations must be at least 1");
-  return true;
+const OptionTable<ArcFitOptions>& ArcFitOptions::Table() {
+  using A = ArcFitOptions;
+  static const OptionTable<A> table =
+      OptionTable<A>("arc fit")
+          .Add<std::string>(
+              "circle_fit", [](const A& a) { return ToString(a.circle_fit); },
+              [](A* a, const std::string& name) { a->circle_fit = ParseCircleFitMethod(name); },
+              "circle fit: geometric, taubin, pratt or kasa")
+          .Add("min_spread", OptionUnit::kLength, &A::min_spread, "smallest RMS spread of an arc's stops",
+               NonNegative())
+          .Add("min_curvature_ratio", &A::min_curvature_ratio,
+               "an arc's deviation from a line over its noise must exceed this", NonNegative())
+          .Add("max_iterations", &A::max_iterations, "iteration limit of the geometric circle fit", AtLeast(1));
+  return table;
 }
+
+bool ArcFitOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 Eigen::Vector3d ArcFit::PointAtAngle(double phi) const {
   return center + radius * (std::cos(phi) * e1 + std::sin(phi) * e2);

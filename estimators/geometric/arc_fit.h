@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "estimators/geometric/circle_fit.h"
+#include "framework/options.h"
 
 namespace kincal::geometric {
 
@@ -38,6 +39,8 @@ struct ArcFitOptions {
   // Iteration limit of the geometric circle fit.
   int max_iterations = 100;
 
+  // Keys circle_fit, min_spread (a length), min_curvature_ratio, max_iterations.
+  static const OptionTable<ArcFitOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 
@@ -54,17 +57,17 @@ struct ArcFit {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // unit; the joint turns positively about it
   Eigen::Vector3d e1 = Eigen::Vector3d::UnitX();     // in-plane unit vectors, e1 x e2 = axis
   Eigen::Vector3d e2 = Eigen::Vector3d::UnitY();
-  double radius = 0.0;                               // m
+  double radius = 0.0;  // m
   // In-plane angle of the marker about the axis, from e1, as a function of the drive variable x.
   double angle_intercept = 0.0;
-  double angle_slope = 1.0;                          // K_start / K_actual
-  std::vector<double> angles;                        // each stop's angle (unwrapped), input order
-  double arc = 0.0;                                  // angle between the extreme stops, rad
+  double angle_slope = 1.0;    // K_start / K_actual
+  std::vector<double> angles;  // each stop's angle (unwrapped), input order
+  double arc = 0.0;            // angle between the extreme stops, rad
   int stops = 0;
   // RMS residuals of the stops: distance from the plane, from the circle in the plane, and along the
   // circle from the angle regression (radius x angle residual), m.
   double axial_rms = 0.0, radial_rms = 0.0, tangential_rms = 0.0;
-  double residual_sum_squares = 0.0;                 // of all three components, m^2
+  double residual_sum_squares = 0.0;  // of all three components, m^2
   // 3 stops - 8 (plane 3, circle 3, regression 2); FitAxis, M markers: 3 M stops - 3 M - 5.
   int degrees_of_freedom = 0;
   int iterations = 0;

@@ -54,10 +54,14 @@ CircleFit2d FromAlgebraic(const Normalized& n, const Eigen::Vector4d& A) {
 
 std::string ToString(CircleFitMethod method) {
   switch (method) {
-    case CircleFitMethod::kKasa: return "kasa";
-    case CircleFitMethod::kPratt: return "pratt";
-    case CircleFitMethod::kTaubin: return "taubin";
-    case CircleFitMethod::kGeometric: return "geometric";
+    case CircleFitMethod::kKasa:
+      return "kasa";
+    case CircleFitMethod::kPratt:
+      return "pratt";
+    case CircleFitMethod::kTaubin:
+      return "taubin";
+    case CircleFitMethod::kGeometric:
+      return "geometric";
   }
   return "unknown";
 }
@@ -65,7 +69,8 @@ std::string ToString(CircleFitMethod method) {
 std::vector<std::string> CircleFitMethodNames() { return {"kasa", "pratt", "taubin", "geometric"}; }
 
 CircleFitMethod ParseCircleFitMethod(const std::string& name) {
-  for (auto m : {CircleFitMethod::kKasa, CircleFitMethod::kPratt, CircleFitMethod::kTaubin, CircleFitMethod::kGeometric}) {
+  for (auto m :
+       {CircleFitMethod::kKasa, CircleFitMethod::kPratt, CircleFitMethod::kTaubin, CircleFitMethod::kGeometric}) {
     if (ToString(m) == name) return m;
   }
   throw std::invalid_argument("unknown circle fit '" + name + "' (expected kasa, pratt, taubin or geometric)");
@@ -196,10 +201,14 @@ CircleFit2d FitCircleGeometric(const std::vector<Eigen::Vector2d>& points, const
 
 CircleFit2d FitCircle(const std::vector<Eigen::Vector2d>& points, CircleFitMethod method, int max_iterations) {
   switch (method) {
-    case CircleFitMethod::kKasa: return FitCircleKasa(points);
-    case CircleFitMethod::kPratt: return FitCirclePratt(points);
-    case CircleFitMethod::kTaubin: return FitCircleTaubin(points);
-    case CircleFitMethod::kGeometric: return FitCircleGeometric(points, FitCircleTaubin(points), max_iterations);
+    case CircleFitMethod::kKasa:
+      return FitCircleKasa(points);
+    case CircleFitMethod::kPratt:
+      return FitCirclePratt(points);
+    case CircleFitMethod::kTaubin:
+      return FitCircleTaubin(points);
+    case CircleFitMethod::kGeometric:
+      return FitCircleGeometric(points, FitCircleTaubin(points), max_iterations);
   }
   throw std::invalid_argument("unknown circle fit method");
 }

@@ -29,8 +29,8 @@ std::vector<std::string> CircleFitMethodNames();
 struct CircleFit2d {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
   double radius = 0.0;
-  int iterations = 0;      // Levenberg-Marquardt iterations (geometric fit only)
-  bool converged = true;   // false if the geometric fit hit its iteration limit
+  int iterations = 0;     // Levenberg-Marquardt iterations (geometric fit only)
+  bool converged = true;  // false if the geometric fit hit its iteration limit
 };
 
 // Each needs at least 3 points not all on one line; throws std::invalid_argument otherwise.

@@ -41,7 +41,7 @@ AxisFrames FramesFromAxes(const std::vector<AxisLine>& axes, const std::vector<M
   AxisFrames out;
   out.frames.resize(n);
   out.model_axes.resize(n);
-  AxisLine axis = axes[0];            // axis i as the frames hold it
+  AxisLine axis = axes[0];  // axis i as the frames hold it
   axis.direction.normalize();
   Eigen::Vector3d foot = axis.point;  // the previous normal's foot on axis i (i >= 2)
   Eigen::Vector3d x_prev = Eigen::Vector3d::Zero();
@@ -76,8 +76,10 @@ AxisFrames FramesFromAxes(const std::vector<AxisLine>& axes, const std::vector<M
       const Eigen::Vector3d end = next.point + u * Zn;
       const double alpha_nominal = nominal[i].alpha;
       double sign;
-      if (std::abs(std::sin(alpha_nominal)) >= sin_threshold) sign = alpha_nominal > 0.0 ? 1.0 : -1.0;
-      else sign = w.dot(expected) >= 0.0 ? 1.0 : -1.0;
+      if (std::abs(std::sin(alpha_nominal)) >= sin_threshold)
+        sign = alpha_nominal > 0.0 ? 1.0 : -1.0;
+      else
+        sign = w.dot(expected) >= 0.0 ? 1.0 : -1.0;
       X = sign * w / s;
       held_next = {end, Zn};
     } else {

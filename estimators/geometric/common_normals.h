@@ -34,10 +34,10 @@ struct AxisLine {
 };
 
 struct JointPair {
-  int joint = 0;                // the pair (joint, joint + 1), 1-based
-  double angle = 0.0;           // angle between the two axes as lines, [0, pi/2], rad
-  bool parallel = false;        // below the threshold: the convention above was used
-  double dropped_tilt = 0.0;    // parallel pairs: tilt of axis joint+1 about y_joint that MDH cannot hold, rad
+  int joint = 0;              // the pair (joint, joint + 1), 1-based
+  double angle = 0.0;         // angle between the two axes as lines, [0, pi/2], rad
+  bool parallel = false;      // below the threshold: the convention above was used
+  double dropped_tilt = 0.0;  // parallel pairs: tilt of axis joint+1 about y_joint that MDH cannot hold, rad
 };
 
 struct AxisFrames {

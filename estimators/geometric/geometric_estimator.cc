@@ -6,27 +6,19 @@
 
 #include "estimators/geometric/axis_fit.h"
 #include "estimators/geometric/geometric_solver.h"
-#include "estimators/geometric/mdh_conversion.h"
 #include "estimators/geometric/sweeps.h"
 #include "estimators/geometric/uncertainty.h"
 #include "framework/error.h"
+#include "models/conversion.h"
 #include "robot/prediction.h"
 
 namespace kincal {
 
 using geometric::ArcFit;
 
-void ReadArcFitOptions(OptionsReader* reader, geometric::ArcFitOptions* arc) {
-  std::string circle = geometric::ToString(arc->circle_fit);
-  reader->Get("circle_fit", &circle);
-  try {
-    arc->circle_fit = geometric::ParseCircleFitMethod(circle);
-  } catch (const std::invalid_argument& e) {
-    reader->Fail("circle_fit", e.what());
-  }
-  reader->GetLength("min_spread", &arc->min_spread);
-  reader->Get("min_curvature_ratio", &arc->min_curvature_ratio);
-  reader->Get("max_iterations", &arc->max_iterations);
+std::string StddevRule(const std::string& method, int bootstrap_samples) {
+  std::string why;
+  return IsValidStddevMethod(method, bootstrap_samples, &why) ? std::string() : why;
 }
 
 bool IsValidStddevMethod(const std::string& method, int bootstrap_samples, std::string* why) {
@@ -41,37 +33,26 @@ bool IsValidStddevMethod(const std::string& method, int bootstrap_samples, std::
   return true;
 }
 
-bool GeometricEstimator::Options::IsValid(std::string* why) const {
-  if (!arc.IsValid(why)) return false;
-  if (!(parallel_threshold >= 0.0 && parallel_threshold < M_PI / 2)) {
-    if (why) *why = "parallel_threshold must be in [0, 90) deg";
-    return false;
-  }
-  if (markers_from != "auto" && markers_from != "stops" && markers_from != "arc") {
-    if (why) *why = "markers_from must be auto, stops or arc, got '" + markers_from + "'";
-    return false;
-  }
-  if (joint_angles != "auto" && joint_angles != "arcs" && joint_angles != "readings") {
-    if (why) *why = "joint_angles must be auto, arcs or readings, got '" + joint_angles + "'";
-    return false;
-  }
-  return IsValidStddevMethod(stddev, bootstrap_samples, why);
+const OptionTable<GeometricEstimator::Options>& GeometricEstimator::Options::Table() {
+  using O = GeometricEstimator::Options;
+  static const OptionTable<O> table =
+      OptionTable<O>("geometric")
+          .Include(geometric::ArcFitOptions::Table(), &O::arc)
+          .Add("parallel_threshold", OptionUnit::kAngleDeg, &O::parallel_threshold,
+               "consecutive axes closer to parallel than this are parallel", Between(0, 90, false, true))
+          .Add("marker", &O::marker, "the marker whose sweeps to use; empty: every marker")
+          .Add("joint_angles", &O::joint_angles, "auto, arcs or readings", OneOf({"auto", "arcs", "readings"}))
+          .Add("markers_from", &O::markers_from, "auto, stops or arc", OneOf({"auto", "stops", "arc"}))
+          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
+          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
+          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
+          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+  return table;
 }
 
-GeometricEstimator::Options GeometricEstimator::Options::FromYaml(const YAML::Node& node) {
-  OptionsReader reader(node, "geometric");
-  Options o;
-  ReadArcFitOptions(&reader, &o.arc);
-  reader.GetAngleDeg("parallel_threshold", &o.parallel_threshold);
-  reader.Get("marker", &o.marker);
-  reader.Get("joint_angles", &o.joint_angles);
-  reader.Get("markers_from", &o.markers_from);
-  reader.Get("stddev", &o.stddev);
-  reader.Get("bootstrap_samples", &o.bootstrap_samples);
-  reader.Get("bootstrap_seed", &o.bootstrap_seed);
-  reader.Finish();
-  return o;
-}
+bool GeometricEstimator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
+GeometricEstimator::Options GeometricEstimator::Options::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 namespace {
 
@@ -79,7 +60,8 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 constexpr double kDeg = 180.0 / M_PI;
 
 std::vector<ArcFit> FitSweeps(const geometric::SweepSet& sweeps, const std::vector<int>& joints,
-                              const geometric::ArcFitOptions& options, const std::string& who, const std::string& source) {
+                              const geometric::ArcFitOptions& options, const std::string& who,
+                              const std::string& source) {
   std::vector<ArcFit> fits(sweeps.dof);
   for (int j : joints) {
     const geometric::Sweep& s = sweeps.sweeps[j - 1];
@@ -113,25 +95,22 @@ void MarkersFromStops(const Robot& controller, const Dataset& data, const std::v
 
 }  // namespace
 
-void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
-                                    EstimationReport* report) const {
-  std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + OneLine(why));
-  const int n = start.dof();
-  for (int i = 0; i < n; ++i) {
+namespace {
+
+// The start robot in modified DH, the convention the construction builds (models/conversion.h: exact
+// for every convention a robot file can have). Revolute joints only.
+Robot MdhStart(const Robot& start) {
+  for (int i = 0; i < start.dof(); ++i) {
     if (start.model().joint_type(i) != JointType::kRevolute) {
       throw std::invalid_argument("geometric: joint " + std::to_string(i + 1) +
                                   " is prismatic; circle point analysis needs revolute joints");
     }
   }
-  const Robot mdh_start = geometric::ToMdhRobot(start, "geometric");
-  if (start.model().convention() != "mdh") {
-    report->warnings.push_back("the start robot is " + start.model().convention() +
-                               "; it was converted exactly to modified DH, which the identified robot uses");
-  }
-  const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric",
-                                                                     /*several_markers=*/true);
-  const bool several = sweeps.markers.size() > 1;
+  if (start.model().convention() == "mdh") return start;
+  return start.WithModel(ConvertModel(start.model(), "mdh"));
+}
+
+std::vector<int> SweptJoints(const geometric::SweepSet& sweeps, int n, const Dataset& data) {
   std::vector<int> joints;
   for (int j = 1; j <= n; ++j) {
     if (!sweeps.Swept(j)) {
@@ -141,48 +120,35 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     }
     joints.push_back(j);
   }
-  const std::vector<ArcFit> fits = FitSweeps(sweeps, joints, options_.arc, "geometric", data.source);
-  geometric::GeometricProblem problem = geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
-  problem.angles_from_readings =
-      options_.joint_angles == "readings" || (options_.joint_angles == "auto" && !start.drives.has_value());
-  const bool markers_from_stops =
-      several && (options_.markers_from == "stops" || (options_.markers_from == "auto" && problem.angles_from_readings));
-  const geometric::GeometricSolution solution = geometric::SolveGeometry(problem, fits);
+  return joints;
+}
 
-  *identified = mdh_start;
-  KinematicModel& model = identified->model();
-  model.SetParameters(solution.parameters);
-  if (several) {
-    for (size_t m = 0; m < sweeps.markers.size(); ++m) identified->markers[sweeps.markers[m]] = solution.p_tool_markers[m];
-    if (markers_from_stops) MarkersFromStops(controller, data, sweeps.markers, identified);
-  }
-  if (sweeps.session != 0) {
-    // The sweeps were measured in another session's frame: the base found is that session's.
-    identified->session_bases[sweeps.session] = solution.T_meas_base;
-    model.SetBase(mdh_start.model().base());
-  }
-
-  // Standard deviations.
-  const auto& info = model.parameter_info();
+geometric::Uncertainty StandardDeviations(const GeometricEstimator::Options& options, const geometric::SweepSet& sweeps,
+                                          const std::vector<int>& joints, const std::vector<ArcFit>& fits,
+                                          const geometric::GeometricProblem& problem, const KinematicModel& model) {
   std::vector<bool> is_angle;
-  for (const auto& p : info) is_angle.push_back(p.kind == ParameterInfo::Kind::kAngle);
+  for (const auto& p : model.parameter_info()) is_angle.push_back(p.kind == ParameterInfo::Kind::kAngle);
   const geometric::ArcSolveFunction solve = [&](const std::vector<ArcFit>& f) {
     return geometric::SolveGeometry(problem, f).parameters;
   };
   geometric::Uncertainty u;
-  if (options_.stddev == "propagation") {
-    u = geometric::PropagateStopNoise(sweeps, joints, options_.arc, fits, is_angle, solve);
-  } else if (options_.stddev == "bootstrap") {
-    u = geometric::BootstrapStops(sweeps, joints, options_.arc, fits, is_angle, solve, options_.bootstrap_samples,
-                                  static_cast<uint64_t>(options_.bootstrap_seed));
+  if (options.stddev == "propagation") {
+    u = geometric::PropagateStopNoise(sweeps, joints, options.arc, fits, is_angle, solve);
+  } else if (options.stddev == "bootstrap") {
+    u = geometric::BootstrapStops(sweeps, joints, options.arc, fits, is_angle, solve, options.bootstrap_samples,
+                                  static_cast<uint64_t>(options.bootstrap_seed));
   } else {
     u.method = "none";
     u.stddev = Eigen::VectorXd::Constant(model.num_parameters(), NAN);
   }
-  if (!u.note.empty()) report->warnings.push_back("standard deviations: " + u.note);
+  return u;
+}
 
-  // Parameters held by construction (geometric_solver.h).
-  const std::string last = std::to_string(n);
+// Every MDH parameter with its standard deviation, those held by construction (geometric_solver.h) noted.
+void ReportParameters(const Robot& mdh_start, const KinematicModel& model, const geometric::Uncertainty& u,
+                      const geometric::SweepSet& sweeps, EstimationReport* report) {
+  const bool several = sweeps.markers.size() > 1;
+  const std::string last = std::to_string(model.dof());
   const auto held_note = [&](const std::string& name) -> std::string {
     if (name == "alpha_1" || name == "a_1" || name == "theta_1" || name == "d_1") {
       return "held at the start value: redundant with the base";
@@ -199,6 +165,7 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     }
     return "";
   };
+  const auto& info = model.parameter_info();
   const Eigen::VectorXd& start_values = mdh_start.model().Parameters();
   for (int k = 0; k < model.num_parameters(); ++k) {
     ParameterEstimate p;
@@ -212,41 +179,54 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
     if (!p.free) report->fixed_parameters.push_back(p.name);
     report->parameters.push_back(p);
   }
+}
 
-  // Details: the axes, the pairs, the noise.
-  nlohmann::json axes = nlohmann::json::array();
+// Details of each fitted axis; a warning for each circle fit stopped at its limit. Adds the fits'
+// iterations to the report's; returns whether every fit converged.
+bool ReportAxes(const geometric::SweepSet& sweeps, const std::vector<ArcFit>& fits,
+                const geometric::GeometricProblem& problem, const geometric::GeometricSolution& solution,
+                EstimationReport* report, nlohmann::json* axes) {
+  const bool several = sweeps.markers.size() > 1;
   bool all_converged = true;
-  for (int j = 1; j <= n; ++j) {
+  *axes = nlohmann::json::array();
+  for (int j = 1; j <= static_cast<int>(fits.size()); ++j) {
     const ArcFit& f = fits[j - 1];
     all_converged = all_converged && f.converged;
     report->iterations += f.iterations;
     nlohmann::json turned = nlohmann::json::array();
     for (const auto& [i, dx] : sweeps.sweeps[j - 1].moved) {
-      turned.push_back({{"joint", i + 1}, {"angle_rad", (problem.angles_from_readings ? 1.0 : fits[i].angle_slope) * dx}});
+      turned.push_back(
+          {{"joint", i + 1}, {"angle_rad", (problem.angles_from_readings ? 1.0 : fits[i].angle_slope) * dx}});
     }
     nlohmann::json circles = nlohmann::json::array();
     for (size_t m = 0; m < f.circles.size() && several; ++m) {
-      circles.push_back({{"marker", sweeps.markers[m]}, {"center_m", Vec(f.circles[m].center)},
-                         {"radius_m", f.circles[m].radius}});
+      circles.push_back(
+          {{"marker", sweeps.markers[m]}, {"center_m", Vec(f.circles[m].center)}, {"radius_m", f.circles[m].radius}});
     }
-    axes.push_back({{"joint", j},
-                    {"point_m", Vec(solution.axes[j - 1].point)},
-                    {"direction", Vec(solution.axes[j - 1].direction)},
-                    {"radius_m", f.radius},
-                    {"stops", f.stops},
-                    {"arc_deg", f.arc * kDeg},
-                    {"plane_rms_m", f.axial_rms},
-                    {"circle_rms_m", f.radial_rms},
-                    {"angle_rms_m", f.tangential_rms},
-                    {"angle_slope", f.angle_slope},
-                    {"circle_fit_iterations", f.iterations},
-                    {"circle_fit_converged", f.converged},
-                    {"turned_back_about", turned}});
-    if (several) axes.back()["marker_circles"] = circles;
+    axes->push_back({{"joint", j},
+                     {"point_m", Vec(solution.axes[j - 1].point)},
+                     {"direction", Vec(solution.axes[j - 1].direction)},
+                     {"radius_m", f.radius},
+                     {"stops", f.stops},
+                     {"arc_deg", f.arc * kDeg},
+                     {"plane_rms_m", f.axial_rms},
+                     {"circle_rms_m", f.radial_rms},
+                     {"angle_rms_m", f.tangential_rms},
+                     {"angle_slope", f.angle_slope},
+                     {"circle_fit_iterations", f.iterations},
+                     {"circle_fit_converged", f.converged},
+                     {"turned_back_about", turned}});
+    if (several) axes->back()["marker_circles"] = circles;
     if (!f.converged) {
       report->warnings.push_back("the circle fit of joint " + std::to_string(j) + " stopped at its iteration limit");
     }
   }
+  return all_converged;
+}
+
+// Details of each pair of consecutive axes; a warning for each parallel pair.
+nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double parallel_threshold,
+                           EstimationReport* report) {
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& pr : solution.frames.pairs) {
     pairs.push_back({{"joints", {pr.joint, pr.joint + 1}},
@@ -259,11 +239,60 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
                     "axes %d and %d are parallel within %.4g deg (parallel_threshold %.4g deg): the common normal "
                     "follows the parallel-axes convention (d_%d held at its nominal value); MDH cannot hold the "
                     "%.4g deg tilt of axis %d about y_%d, which was dropped",
-                    pr.joint, pr.joint + 1, pr.angle * kDeg, options_.parallel_threshold * kDeg, pr.joint,
+                    pr.joint, pr.joint + 1, pr.angle * kDeg, parallel_threshold * kDeg, pr.joint,
                     std::abs(pr.dropped_tilt) * kDeg, pr.joint + 1, pr.joint);
       report->warnings.push_back(text);
     }
   }
+  return pairs;
+}
+
+}  // namespace
+
+void GeometricEstimator::CheckStart(const Robot& start) const {
+  const Robot mdh = MdhStart(start);
+  if (start.model().convention() != "mdh") ConvertModel(mdh.model(), start.model().convention());
+}
+
+void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
+                                    EstimationReport* report) const {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + OneLine(why));
+  const int n = start.dof();
+  const Robot mdh_start = MdhStart(start);
+  const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric",
+                                                              /*several_markers=*/true);
+  const bool several = sweeps.markers.size() > 1;
+  const std::vector<int> joints = SweptJoints(sweeps, n, data);
+  const std::vector<ArcFit> fits = FitSweeps(sweeps, joints, options_.arc, "geometric", data.source);
+  geometric::GeometricProblem problem =
+      geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
+  problem.angles_from_readings =
+      options_.joint_angles == "readings" || (options_.joint_angles == "auto" && !start.drives.has_value());
+  const bool markers_from_stops = several && (options_.markers_from == "stops" ||
+                                              (options_.markers_from == "auto" && problem.angles_from_readings));
+  const geometric::GeometricSolution solution = geometric::SolveGeometry(problem, fits);
+
+  *identified = mdh_start;
+  KinematicModel& model = identified->model();
+  model.SetParameters(solution.parameters);
+  if (several) {
+    for (size_t m = 0; m < sweeps.markers.size(); ++m)
+      identified->markers[sweeps.markers[m]] = solution.p_tool_markers[m];
+    if (markers_from_stops) MarkersFromStops(controller, data, sweeps.markers, identified);
+  }
+  if (sweeps.session != 0) {
+    // The sweeps were measured in another session's frame: the base found is that session's.
+    identified->session_bases[sweeps.session] = solution.T_meas_base;
+    model.SetBase(mdh_start.model().base());
+  }
+
+  const geometric::Uncertainty u = StandardDeviations(options_, sweeps, joints, fits, problem, model);
+  if (!u.note.empty()) report->warnings.push_back("standard deviations: " + u.note);
+  ReportParameters(mdh_start, model, u, sweeps, report);
+  nlohmann::json axes;
+  const bool all_converged = ReportAxes(sweeps, fits, problem, solution, report, &axes);
+  const nlohmann::json pairs = ReportPairs(solution, options_.parallel_threshold, report);
   std::vector<int> order = sweeps.order;
   report->details = {
       {"circle_fit", geometric::ToString(options_.arc.circle_fit)},
@@ -281,11 +310,12 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
       {"marker_at_calibration_m", Vec(solution.p_meas_marker)},
       {"axes", axes},
       {"pairs", pairs},
-      {"stddev", {{"method", u.method},
-                  {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
-                  {"degrees_of_freedom", u.degrees_of_freedom},
-                  {"replicates", u.replicates},
-                  {"note", u.note}}}};
+      {"stddev",
+       {{"method", u.method},
+        {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
+        {"degrees_of_freedom", u.degrees_of_freedom},
+        {"replicates", u.replicates},
+        {"note", u.note}}}};
   if (several) {
     nlohmann::json positions = nlohmann::json::object();
     nlohmann::json from_arc = nlohmann::json::object();
@@ -298,13 +328,22 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
   }
   if (sweeps.session != 0) {
     const Eigen::Isometry3d& T = solution.T_meas_base;
-    report->details["session_base"] = {{"session", sweeps.session}, {"xyz_m", Vec(T.translation())},
-                                       {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
+    report->details["session_base"] = {
+        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
+  }
+  if (start.model().convention() != "mdh") {
+    // Back to the start's convention, exactly (models/conversion.h); the parameters listed are the
+    // construction's modified DH ones.
+    *identified = identified->WithModel(ConvertModel(identified->model(), start.model().convention()));
+    report->warnings.push_back("the start robot is " + start.model().convention() +
+                               ": the geometry was built in modified DH (the parameters listed) and converted "
+                               "exactly back to " +
+                               start.model().convention());
   }
   report->status = all_converged ? EstimationStatus::kConverged : EstimationStatus::kIterationLimit;
   report->message = "axes of " + std::to_string(n) + " sweeps" +
-                    (several ? " of " + std::to_string(sweeps.markers.size()) + " markers jointly" : std::string()) + " (" + geometric::ToString(options_.arc.circle_fit) +
-                    " circle fit), frames by common normals";
+                    (several ? " of " + std::to_string(sweeps.markers.size()) + " markers jointly" : std::string()) +
+                    " (" + geometric::ToString(options_.arc.circle_fit) + " circle fit), frames by common normals";
 }
 
 }  // namespace kincal

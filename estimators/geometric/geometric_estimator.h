@@ -5,14 +5,15 @@
 // read off them (mdh_from_frames.h).
 //
 // Input: a dataset with a `sweep` column, every joint swept at least 3 stops (sweeps.h explains the
-// calibration configuration and the order of sweeps). The start robot may be MDH or DH (converted
-// exactly, mdh_conversion.h); revolute joints only.
-// Output: a complete MDH robot: table, base = T_meas_frame0, tool = the marker's position in the last
-// frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the ratio_regression stage identifies them). The report lists the fitted axes
-// (point, direction), each fit's residual RMS, every parameter with a standard deviation
-// (uncertainty.h), the parallel pairs met (each also a warning) and the parameters held because they are
-// redundant with the base or the tool. The start robot's free mask is not used: the construction
-// determines every parameter the sweeps can show, and holds the rest at the start values.
+// calibration configuration and the order of sweeps). The start robot may be in any convention (mdh,
+// dh, hayati, poe, urdf): it is converted exactly to MDH for the construction (models/conversion.h), and
+// the result converted exactly back to the start's convention; revolute joints only.
+// Output: a complete robot (the MDH construction's): table, base = T_meas_frame0, tool = the marker's position in the
+// last frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the
+// ratio_regression stage identifies them). The report lists the fitted axes (point, direction), each fit's residual
+// RMS, every parameter with a standard deviation (uncertainty.h), the parallel pairs met (each also a warning) and the
+// parameters held because they are redundant with the base or the tool. The start robot's free mask is not used: the
+// construction determines every parameter the sweeps can show, and holds the rest at the start values.
 #include <cstdint>
 #include <string>
 
@@ -64,6 +65,8 @@ class GeometricEstimator final : public Estimator {
     int bootstrap_samples = 200;
     int bootstrap_seed = 1;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     // Keys: circle_fit, min_spread (length: 1um, 0.001mm, plain metres), min_curvature_ratio,
     // max_iterations, parallel_threshold (deg), marker, markers_from, joint_angles, stddev, bootstrap_samples,
@@ -74,6 +77,8 @@ class GeometricEstimator final : public Estimator {
   GeometricEstimator() : GeometricEstimator(Options()) {}
   explicit GeometricEstimator(const Options& options) : options_(options) {}
   std::string name() const override { return "geometric"; }
+  // Revolute joints, and a conversion to modified DH (exact) and back.
+  void CheckStart(const Robot& start) const override;
 
  private:
   void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
@@ -81,8 +86,8 @@ class GeometricEstimator final : public Estimator {
   Options options_;
 };
 
-// Reads the arc-fit keys shared by the geometric and ratio_regression options.
-void ReadArcFitOptions(OptionsReader* reader, geometric::ArcFitOptions* arc);
 bool IsValidStddevMethod(const std::string& method, int bootstrap_samples, std::string* why);
+// IsValidStddevMethod's message, or "" (a rule of the options' tables).
+std::string StddevRule(const std::string& method, int bootstrap_samples);
 
 }  // namespace kincal

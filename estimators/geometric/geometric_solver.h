@@ -37,13 +37,13 @@
 namespace kincal::geometric {
 
 struct GeometricProblem {
-  Robot start;                       // the start robot, modified DH (mdh_conversion.h)
-  Eigen::VectorXd x_cal;             // joint angles of the calibration configuration (start drives)
-  std::vector<std::vector<std::pair<int, double>>> moved;  // per joint: Sweep::moved
-  std::vector<MdhRow> nominal;       // the start robot's MDH rows
-  Eigen::Vector3d x1_hint = Eigen::Vector3d::UnitX();  // the start model's x_1 at the calibration configuration
+  Robot start;            // the start robot, modified DH (models/conversion.h)
+  Eigen::VectorXd x_cal;  // joint angles of the calibration configuration (start drives)
+  std::vector<std::vector<std::pair<int, double>>> moved;   // per joint: Sweep::moved
+  std::vector<MdhRow> nominal;                              // the start robot's MDH rows
+  Eigen::Vector3d x1_hint = Eigen::Vector3d::UnitX();       // the start model's x_1 at the calibration configuration
   Eigen::Vector3d p_tool_marker = Eigen::Vector3d::Zero();  // the (first) marker in the tool frame (start robot)
-  int markers = 1;                   // markers fitted together (SweepSet::markers)
+  int markers = 1;                                          // markers fitted together (SweepSet::markers)
   // The drive variables are the joint angles (GeometricEstimator::Options::joint_angles "readings"):
   // q_cal and the turns back use them instead of angle_slope x drive variable.
   bool angles_from_readings = false;
@@ -54,16 +54,16 @@ struct GeometricProblem {
 };
 
 struct GeometricSolution {
-  std::vector<AxisLine> axes;        // fitted axes at the calibration configuration, i = 1..n
-  AxisFrames frames;                 // T_meas_frame_i at the calibration configuration
-  std::vector<MdhRow> rows;          // identified table
+  std::vector<AxisLine> axes;  // fitted axes at the calibration configuration, i = 1..n
+  AxisFrames frames;           // T_meas_frame_i at the calibration configuration
+  std::vector<MdhRow> rows;    // identified table
   Eigen::Isometry3d T_meas_base = Eigen::Isometry3d::Identity();
   Eigen::Vector3d p_meas_marker = Eigen::Vector3d::Zero();  // (first) marker at the calibration configuration
-  std::vector<Eigen::Vector3d> p_meas_markers;  // every marker there (SweepSet::markers order)
+  std::vector<Eigen::Vector3d> p_meas_markers;              // every marker there (SweepSet::markers order)
   // Several markers: each marker in the tool frame (the tool keeps the start robot's transform, which the
   // markers make redundant). One marker: empty; the tool's translation carries it, as below.
-  Eigen::VectorXd q_cal;             // actual joint angles there, measured on the arcs
-  Eigen::VectorXd parameters;        // the MDH model's parameter vector (ParameterNames() order)
+  Eigen::VectorXd q_cal;       // actual joint angles there, measured on the arcs
+  Eigen::VectorXd parameters;  // the MDH model's parameter vector (ParameterNames() order)
   std::vector<Eigen::Vector3d> p_tool_markers;
 };
 

@@ -40,12 +40,16 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
 
   std::vector<std::string> markers;  // in order of first appearance
   for (const auto& m : data.rows) {
-    if (m.sweep <= 0) ++set.free_rows;
-    else if (std::find(markers.begin(), markers.end(), m.marker) == markers.end()) markers.push_back(m.marker);
+    if (m.sweep <= 0)
+      ++set.free_rows;
+    else if (std::find(markers.begin(), markers.end(), m.marker) == markers.end())
+      markers.push_back(m.marker);
   }
   if (markers.empty()) {
-    ThrowInputError(data.source, 0, 0, who + ": the dataset has no sweep rows (a `sweep` column naming the joint "
-                                             "swept at each stop is needed)");
+    ThrowInputError(data.source, 0, 0,
+                    who +
+                        ": the dataset has no sweep rows (a `sweep` column naming the joint "
+                        "swept at each stop is needed)");
   }
   if (!marker.empty()) {
     if (std::find(markers.begin(), markers.end(), marker) == markers.end()) {
@@ -56,8 +60,8 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     std::set<std::string> sorted(markers.begin(), markers.end());
     std::string list;
     for (const auto& id : sorted) list += (list.empty() ? "" : ", ") + (id.empty() ? std::string("(none)") : id);
-    ThrowInputError(data.source, 0, 0, who + ": the sweeps record several markers (" + list +
-                                           "); choose one with the option `marker`");
+    ThrowInputError(data.source, 0, 0,
+                    who + ": the sweeps record several markers (" + list + "); choose one with the option `marker`");
   } else {
     set.markers = markers;
   }
@@ -83,7 +87,9 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     const int mi = marker_index(m.marker);
     if (m.sweep <= 0 || mi == M) continue;
     const int j = m.sweep;
-    if (j > n) ThrowInputError(RowName(data, r) + ": " + who + ": sweep index " + std::to_string(j) + " out of range 1.." + std::to_string(n));
+    if (j > n)
+      ThrowInputError(RowName(data, r) + ": " + who + ": sweep index " + std::to_string(j) + " out of range 1.." +
+                      std::to_string(n));
     const Eigen::VectorXd x = DriveAngles(controller, start, m);
     if (!have_cal) {
       have_cal = true;
@@ -94,7 +100,8 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     }
     if (m.session != set.session) {
       ThrowInputError(RowName(data, r) + ": " + who + ": the sweeps come from several instrument sessions (" +
-                      std::to_string(set.session) + " and " + std::to_string(m.session) + "); give one session's sweeps");
+                      std::to_string(set.session) + " and " + std::to_string(m.session) +
+                      "); give one session's sweeps");
     }
     Sweep& s = set.sweeps[j - 1];
     if (s.joint == 0) {
@@ -109,8 +116,9 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     const Eigen::VectorXd q = coupled(m.q);
     for (int i = 0; i < n; ++i) {
       if (i != j - 1 && std::abs(q[i] - held_q[j - 1][i]) > kHeldTolerance) {
-        ThrowInputError(RowName(data, r) + ": " + who + ": joint " + std::to_string(i + 1) + " moves during the sweep of joint " +
-                        std::to_string(j) + " (a sweep turns one joint; the others hold)");
+        ThrowInputError(RowName(data, r) + ": " + who + ": joint " + std::to_string(i + 1) +
+                        " moves during the sweep of joint " + std::to_string(j) +
+                        " (a sweep turns one joint; the others hold)");
       }
     }
     const int k = count[j - 1][mi]++;  // this row is stop k of its marker
@@ -133,10 +141,10 @@ SweepSet ExtractSweeps(const Robot& controller, const Robot& start, const Datase
     if (s.joint == 0) continue;
     for (int mi = 0; mi < M; ++mi) {
       if (s.marker_points[mi].size() != s.x.size()) {
-        ThrowInputError(data.source, 0, 0, who + ": " + set.Where(j, data.source) + ": marker '" + set.markers[mi] +
-                                               "' is measured at " + std::to_string(s.marker_points[mi].size()) +
-                                               " of its " + std::to_string(s.x.size()) +
-                                               " stops (every marker is needed at every stop)");
+        ThrowInputError(data.source, 0, 0,
+                        who + ": " + set.Where(j, data.source) + ": marker '" + set.markers[mi] + "' is measured at " +
+                            std::to_string(s.marker_points[mi].size()) + " of its " + std::to_string(s.x.size()) +
+                            " stops (every marker is needed at every stop)");
       }
     }
     s.points = s.marker_points[0];

@@ -24,29 +24,29 @@
 namespace kincal::geometric {
 
 struct Sweep {
-  int joint = 0;                         // 1-based
-  std::vector<Eigen::Vector3d> points;   // measured marker positions, m (the first marker's)
+  int joint = 0;                        // 1-based
+  std::vector<Eigen::Vector3d> points;  // measured marker positions, m (the first marker's)
   // Every marker's positions at the same stops, in SweepSet::markers order (marker_points[0] == points).
   std::vector<std::vector<Eigen::Vector3d>> marker_points;
-  std::vector<double> x;                 // the swept joint's drive variable at each stop, rad
+  std::vector<double> x;  // the swept joint's drive variable at each stop, rad
   // Joints proximal to this one that were away from the calibration configuration during the sweep:
   // (0-based joint, drive-variable displacement from the calibration configuration).
   std::vector<std::pair<int, double>> moved;
-  int first_line = 0, last_line = 0;     // source lines (0 when the rows were made in memory)
-  int first_row = 0, last_row = 0;       // 0-based row indices
+  int first_line = 0, last_line = 0;  // source lines (0 when the rows were made in memory)
+  int first_row = 0, last_row = 0;    // 0-based row indices
 };
 
 struct SweepSet {
   int dof = 0;
-  std::vector<Sweep> sweeps;             // indexed by joint - 1; joint == 0 where a joint was never swept
-  std::vector<int> order;                // 1-based joints in the order their sweeps start
-  Eigen::VectorXd q_cal;                 // commanded calibration configuration
-  Eigen::VectorXd x_cal;                 // its drive variables (the start robot's joint angles there)
-  int cal_row = 0;                       // row index of the calibration configuration
-  std::string marker;                    // marker id used ("" = the tool origin); the first of `markers`
-  std::vector<std::string> markers;      // every marker used (several: see ExtractSweeps)
+  std::vector<Sweep> sweeps;         // indexed by joint - 1; joint == 0 where a joint was never swept
+  std::vector<int> order;            // 1-based joints in the order their sweeps start
+  Eigen::VectorXd q_cal;             // commanded calibration configuration
+  Eigen::VectorXd x_cal;             // its drive variables (the start robot's joint angles there)
+  int cal_row = 0;                   // row index of the calibration configuration
+  std::string marker;                // marker id used ("" = the tool origin); the first of `markers`
+  std::vector<std::string> markers;  // every marker used (several: see ExtractSweeps)
   int session = 0;
-  int free_rows = 0;                     // rows with sweep 0 (not used)
+  int free_rows = 0;  // rows with sweep 0 (not used)
 
   bool Swept(int joint) const { return sweeps[joint - 1].joint == joint; }
   // "sweep of joint 3 (data.csv lines 42-61)" for messages.

@@ -104,7 +104,8 @@ Uncertainty BootstrapStops(const SweepSet& sweeps, const std::vector<int>& joint
   }
   if (u.replicates < 2 || u.replicates < samples / 2) {
     u.stddev = Eigen::VectorXd::Constant(value.size(), NAN);
-    u.note = "only " + std::to_string(u.replicates) + " of " + std::to_string(samples) + " bootstrap replicates could be fitted";
+    u.note = "only " + std::to_string(u.replicates) + " of " + std::to_string(samples) +
+             " bootstrap replicates could be fitted";
     return u;
   }
   const double r = u.replicates;

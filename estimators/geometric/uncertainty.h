@@ -29,12 +29,12 @@ namespace kincal::geometric {
 using ArcSolveFunction = std::function<Eigen::VectorXd(const std::vector<ArcFit>& fits)>;
 
 struct Uncertainty {
-  std::string method;              // "propagation", "bootstrap" or "none"
-  Eigen::VectorXd stddev;          // one per quantity; NaN when it cannot be given
-  double sigma = NAN;              // propagation: the estimated noise per coordinate, m
-  int degrees_of_freedom = 0;      // propagation: of sigma
-  int replicates = 0;              // bootstrap: replicates that could be fitted
-  std::string note;                // why stddev is NaN, if it is
+  std::string method;          // "propagation", "bootstrap" or "none"
+  Eigen::VectorXd stddev;      // one per quantity; NaN when it cannot be given
+  double sigma = NAN;          // propagation: the estimated noise per coordinate, m
+  int degrees_of_freedom = 0;  // propagation: of sigma
+  int replicates = 0;          // bootstrap: replicates that could be fitted
+  std::string note;            // why stddev is NaN, if it is
 };
 
 // `joints`: the swept joints to take into account (1-based); `fits`: their fits at the data; `is_angle`:

@@ -24,8 +24,7 @@ bool ErrorModelNlp::Ensure(const Number* y, Accumulate what) {
   return std::isfinite(cached_.cost);
 }
 
-bool ErrorModelNlp::get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag,
-                                 IndexStyleEnum& index_style) {
+bool ErrorModelNlp::get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) {
   n = static_cast<Index>(model_.size());
   m = 0;
   nnz_jac_g = 0;
@@ -34,15 +33,14 @@ bool ErrorModelNlp::get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nn
   return true;
 }
 
-bool ErrorModelNlp::get_bounds_info(Index n, Number* y_l, Number* y_u, Index /*m*/, Number* /*g_l*/,
-                                    Number* /*g_u*/) {
+bool ErrorModelNlp::get_bounds_info(Index n, Number* y_l, Number* y_u, Index /*m*/, Number* /*g_l*/, Number* /*g_u*/) {
   Eigen::Map<Eigen::VectorXd>(y_l, n) = model_.y_lower();
   Eigen::Map<Eigen::VectorXd>(y_u, n) = model_.y_upper();
   return true;
 }
 
-bool ErrorModelNlp::get_starting_point(Index n, bool init_x, Number* y, bool init_z, Number* /*z_L*/,
-                                       Number* /*z_U*/, Index /*m*/, bool init_lambda, Number* /*lambda*/) {
+bool ErrorModelNlp::get_starting_point(Index n, bool init_x, Number* y, bool init_z, Number* /*z_L*/, Number* /*z_U*/,
+                                       Index /*m*/, bool init_lambda, Number* /*lambda*/) {
   if (init_z || init_lambda) return false;  // no warm start
   if (init_x) Eigen::Map<Eigen::VectorXd>(y, n).setZero();
   return true;
@@ -70,8 +68,8 @@ bool ErrorModelNlp::eval_jac_g(Index /*n*/, const Number* /*y*/, bool /*new_x*/,
 }
 
 bool ErrorModelNlp::eval_h(Index n, const Number* y, bool /*new_x*/, Number obj_factor, Index /*m*/,
-                           const Number* /*lambda*/, bool /*new_lambda*/, Index /*nele_hess*/, Index* iRow,
-                           Index* jCol, Number* values) {
+                           const Number* /*lambda*/, bool /*new_lambda*/, Index /*nele_hess*/, Index* iRow, Index* jCol,
+                           Number* values) {
   if (!values) {
     Index k = 0;
     for (Index i = 0; i < n; ++i) {
@@ -92,9 +90,8 @@ bool ErrorModelNlp::eval_h(Index n, const Number* y, bool /*new_x*/, Number obj_
 }
 
 void ErrorModelNlp::finalize_solution(Ipopt::SolverReturn status, Index /*n*/, const Number* y, const Number* /*z_L*/,
-                                      const Number* /*z_U*/, Index /*m*/, const Number* /*g*/,
-                                      const Number* /*lambda*/, Number /*obj_value*/,
-                                      const Ipopt::IpoptData* /*ip_data*/,
+                                      const Number* /*z_U*/, Index /*m*/, const Number* /*g*/, const Number* /*lambda*/,
+                                      Number /*obj_value*/, const Ipopt::IpoptData* /*ip_data*/,
                                       Ipopt::IpoptCalculatedQuantities* /*ip_cq*/) {
   solver_return_ = status;
   solution_ = model_.X(y);

@@ -21,7 +21,7 @@ class ErrorModelNlp final : public Ipopt::TNLP {
   // The point finalize_solution received (x units), and Ipopt's verdict.
   const Eigen::VectorXd& solution() const { return solution_; }
   Ipopt::SolverReturn solver_return() const { return solver_return_; }
-  int passes() const { return passes_; }            // passes over the data
+  int passes() const { return passes_; }  // passes over the data
   int parameters_at_bounds() const { return at_bounds_; }
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,

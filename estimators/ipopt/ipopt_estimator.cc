@@ -15,27 +15,41 @@ namespace {
 
 std::string ReturnName(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
-    case Ipopt::Solve_Succeeded: return "solved";
-    case Ipopt::Solved_To_Acceptable_Level: return "solved to the acceptable level";
-    case Ipopt::Search_Direction_Becomes_Too_Small: return "search direction became too small";
-    case Ipopt::Diverging_Iterates: return "diverging iterates";
-    case Ipopt::User_Requested_Stop: return "stopped by the user";
-    case Ipopt::Maximum_Iterations_Exceeded: return "iteration limit reached";
-    case Ipopt::Maximum_CpuTime_Exceeded: return "time limit reached";
-    case Ipopt::Restoration_Failed: return "restoration failed";
-    case Ipopt::Error_In_Step_Computation: return "error in step computation";
-    case Ipopt::Invalid_Number_Detected: return "invalid number detected (non-finite cost)";
-    default: return "return status " + std::to_string(static_cast<int>(s));
+    case Ipopt::Solve_Succeeded:
+      return "solved";
+    case Ipopt::Solved_To_Acceptable_Level:
+      return "solved to the acceptable level";
+    case Ipopt::Search_Direction_Becomes_Too_Small:
+      return "search direction became too small";
+    case Ipopt::Diverging_Iterates:
+      return "diverging iterates";
+    case Ipopt::User_Requested_Stop:
+      return "stopped by the user";
+    case Ipopt::Maximum_Iterations_Exceeded:
+      return "iteration limit reached";
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return "time limit reached";
+    case Ipopt::Restoration_Failed:
+      return "restoration failed";
+    case Ipopt::Error_In_Step_Computation:
+      return "error in step computation";
+    case Ipopt::Invalid_Number_Detected:
+      return "invalid number detected (non-finite cost)";
+    default:
+      return "return status " + std::to_string(static_cast<int>(s));
   }
 }
 
 EstimationStatus StatusOf(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
     case Ipopt::Solve_Succeeded:
-    case Ipopt::Solved_To_Acceptable_Level: return EstimationStatus::kConverged;
+    case Ipopt::Solved_To_Acceptable_Level:
+      return EstimationStatus::kConverged;
     case Ipopt::Maximum_Iterations_Exceeded:
-    case Ipopt::Maximum_CpuTime_Exceeded: return EstimationStatus::kIterationLimit;
-    default: return EstimationStatus::kFailed;
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return EstimationStatus::kIterationLimit;
+    default:
+      return EstimationStatus::kFailed;
   }
 }
 
@@ -74,40 +88,30 @@ MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weight
   }
   run.status = StatusOf(status);
   run.message = "Ipopt: " + ReturnName(status);
-  run.details = {{"hessian", options.hessian}, {"ipopt_status", static_cast<int>(status)}, {"passes_over_data", *passes}};
+  run.details = {
+      {"hessian", options.hessian}, {"ipopt_status", static_cast<int>(status)}, {"passes_over_data", *passes}};
   return run;
 }
 
 }  // namespace
 
-bool IpoptOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
-  if (hessian != "gauss_newton" && hessian != "limited_memory") {
-    return fail("hessian must be gauss_newton or limited_memory, got '" + hessian + "'");
-  }
-  if (max_iterations < 0) return fail("max_iterations must be >= 0");
-  if (!(tolerance > 0.0) || !std::isfinite(tolerance)) return fail("tolerance must be positive");
-  if (!(max_time_seconds >= 0.0) || !std::isfinite(max_time_seconds)) return fail("max_time_seconds must be >= 0");
-  if (print_level < 0 || print_level > 12) return fail("print_level must be within 0..12");
-  return true;
+const OptionTable<IpoptOptions>& IpoptOptions::Table() {
+  using O = IpoptOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ipopt")
+          .Include(ErrorModelEstimatorOptions::Table())
+          .Add("hessian", &O::hessian, "gauss_newton or limited_memory (Ipopt's hessian_approximation)",
+               OneOf({"gauss_newton", "limited_memory"}))
+          .Add("max_iterations", &O::max_iterations, "Ipopt's max_iter", AtLeast(0))
+          .Add("tolerance", &O::tolerance, "Ipopt's tol", Positive())
+          .Add("max_time_seconds", &O::max_time_seconds, "Ipopt's max_cpu_time, s; 0: none", NonNegative())
+          .Add("print_level", &O::print_level, "Ipopt's print_level", Within(0, 12));
+  return table;
 }
 
-IpoptOptions IpoptOptions::FromYaml(const YAML::Node& node) {
-  IpoptOptions o;
-  OptionsReader reader(node, "ipopt");
-  o.ReadShared(&reader);
-  reader.Get("hessian", &o.hessian);
-  reader.Get("max_iterations", &o.max_iterations);
-  reader.Get("tolerance", &o.tolerance);
-  reader.Get("max_time_seconds", &o.max_time_seconds);
-  reader.Get("print_level", &o.print_level);
-  reader.Finish();
-  return o;
-}
+bool IpoptOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
+IpoptOptions IpoptOptions::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 void IpoptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {

@@ -26,14 +26,16 @@ namespace kincal {
 // The shared keys (error_model, bounds included, and weighting: error_model_estimation.h), then these.
 struct IpoptOptions : ErrorModelEstimatorOptions {
   std::string hessian = "gauss_newton";  // or "limited_memory" (Ipopt's hessian_approximation)
-  int max_iterations = 200;            // Ipopt's max_iter
+  int max_iterations = 200;              // Ipopt's max_iter
   // Ipopt's tol: the largest scaled optimality error (dual infeasibility in y, complementarity) at which
   // it stops. The cost is in units of its curvature, so 1e-12 puts the solution within about 1e-12
   // characteristic scales (1e-15 m) of the minimum.
   double tolerance = 1e-12;
-  double max_time_seconds = 0.0;       // Ipopt's max_cpu_time; 0: no limit
-  int print_level = 0;                 // Ipopt's print_level, 0..12; 0 prints nothing (not even the banner)
+  double max_time_seconds = 0.0;  // Ipopt's max_cpu_time; 0: no limit
+  int print_level = 0;            // Ipopt's print_level, 0..12; 0 prints nothing (not even the banner)
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<IpoptOptions>& Table();
   bool IsValid(std::string* why) const;
   static IpoptOptions FromYaml(const YAML::Node& node);
 };

@@ -9,32 +9,25 @@
 
 namespace kincal {
 
-bool LeastSquaresOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
-  if (max_iterations < 0) return fail("max_iterations must be >= 0");
-  if (!(parameter_tolerance > 0.0)) return fail("parameter_tolerance must be positive");
-  if (!(function_tolerance >= 0.0)) return fail("function_tolerance must be >= 0");
-  if (!(gradient_tolerance >= 0.0)) return fail("gradient_tolerance must be >= 0");
-  if (!(initial_damping >= 0.0) || !std::isfinite(initial_damping)) return fail("initial_damping must be finite and >= 0");
-  return true;
+const OptionTable<LeastSquaresOptions>& LeastSquaresOptions::Table() {
+  using O = LeastSquaresOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("least_squares")
+          .Include(ErrorModelEstimatorOptions::Table())
+          .Add("max_iterations", &O::max_iterations, "passes over the data that propose a step", AtLeast(0))
+          .Add("parameter_tolerance", &O::parameter_tolerance,
+               "stop when a step changes no parameter by more than this times its scale", Positive())
+          .Add("function_tolerance", &O::function_tolerance,
+               "stop when a step lowers the cost by less than this fraction", NonNegative())
+          .Add("gradient_tolerance", &O::gradient_tolerance,
+               "stop when every column of J is orthogonal to the residuals within this cosine", NonNegative())
+          .Add("initial_damping", &O::initial_damping, "initial Levenberg-Marquardt damping", NonNegative());
+  return table;
 }
 
-LeastSquaresOptions LeastSquaresOptions::FromYaml(const YAML::Node& node) {
-  LeastSquaresOptions o;
-  OptionsReader reader(node, "least_squares");
-  o.ReadShared(&reader);
-  reader.Get("max_iterations", &o.max_iterations);
-  reader.Get("parameter_tolerance", &o.parameter_tolerance);
-  reader.Get("function_tolerance", &o.function_tolerance);
-  reader.Get("gradient_tolerance", &o.gradient_tolerance);
-  reader.Get("initial_damping", &o.initial_damping);
-  reader.Finish();
-  return o;
-}
+bool LeastSquaresOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
+LeastSquaresOptions LeastSquaresOptions::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 namespace {
 

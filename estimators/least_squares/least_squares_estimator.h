@@ -17,7 +17,7 @@ namespace kincal {
 
 // The shared keys (error_model and weighting: error_model_estimation.h), then these.
 struct LeastSquaresOptions : ErrorModelEstimatorOptions {
-  int max_iterations = 50;             // passes over the data that propose a step
+  int max_iterations = 50;  // passes over the data that propose a step
   // Stop when an accepted step changes no parameter by more than parameter_tolerance times its
   // characteristic scale (1 mm, 1 mrad, 1e-3 ratio scale): 1e-8 is 10 pm, below any instrument.
   double parameter_tolerance = 1e-8;
@@ -29,6 +29,8 @@ struct LeastSquaresOptions : ErrorModelEstimatorOptions {
   // registered in closed form, so Gauss-Newton steps are good from the start.
   double initial_damping = 1e-6;
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<LeastSquaresOptions>& Table();
   bool IsValid(std::string* why) const;
   static LeastSquaresOptions FromYaml(const YAML::Node& node);
 };

@@ -16,9 +16,10 @@ namespace {
 // Local algorithms that honour bound constraints (NLopt's documentation, "NLopt Algorithms").
 const std::vector<std::string>& SupportedAlgorithms() {
   static const std::vector<std::string> names = {
-      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",    "LD_CCSAQ",        "LD_VAR1",
-      "LD_VAR2",   "LD_TNEWTON", "LD_TNEWTON_PRECOND_RESTART", "LN_BOBYQA", "LN_COBYLA",
-      "LN_NEWUOA_BOUND", "LN_NELDERMEAD", "LN_SBPLX"};
+      "LD_SLSQP",  "LD_LBFGS",  "LD_MMA",          "LD_CCSAQ",
+      "LD_VAR1",   "LD_VAR2",   "LD_TNEWTON",      "LD_TNEWTON_PRECOND_RESTART",
+      "LN_BOBYQA", "LN_COBYLA", "LN_NEWUOA_BOUND", "LN_NELDERMEAD",
+      "LN_SBPLX"};
   return names;
 }
 
@@ -46,18 +47,30 @@ class Objective {
 
 std::string ResultName(nlopt::result r) {
   switch (r) {
-    case nlopt::FAILURE: return "generic failure";
-    case nlopt::INVALID_ARGS: return "invalid arguments";
-    case nlopt::OUT_OF_MEMORY: return "out of memory";
-    case nlopt::ROUNDOFF_LIMITED: return "roundoff limited";
-    case nlopt::FORCED_STOP: return "forced stop";
-    case nlopt::SUCCESS: return "success";
-    case nlopt::STOPVAL_REACHED: return "stopval reached";
-    case nlopt::FTOL_REACHED: return "function tolerance reached";
-    case nlopt::XTOL_REACHED: return "parameter tolerance reached";
-    case nlopt::MAXEVAL_REACHED: return "evaluation limit reached";
-    case nlopt::MAXTIME_REACHED: return "time limit reached";
-    default: return "result " + std::to_string(static_cast<int>(r));
+    case nlopt::FAILURE:
+      return "generic failure";
+    case nlopt::INVALID_ARGS:
+      return "invalid arguments";
+    case nlopt::OUT_OF_MEMORY:
+      return "out of memory";
+    case nlopt::ROUNDOFF_LIMITED:
+      return "roundoff limited";
+    case nlopt::FORCED_STOP:
+      return "forced stop";
+    case nlopt::SUCCESS:
+      return "success";
+    case nlopt::STOPVAL_REACHED:
+      return "stopval reached";
+    case nlopt::FTOL_REACHED:
+      return "function tolerance reached";
+    case nlopt::XTOL_REACHED:
+      return "parameter tolerance reached";
+    case nlopt::MAXEVAL_REACHED:
+      return "evaluation limit reached";
+    case nlopt::MAXTIME_REACHED:
+      return "time limit reached";
+    default:
+      return "result " + std::to_string(static_cast<int>(r));
   }
 }
 
@@ -92,10 +105,16 @@ MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weight
     case nlopt::SUCCESS:
     case nlopt::STOPVAL_REACHED:
     case nlopt::FTOL_REACHED:
-    case nlopt::XTOL_REACHED: run.status = EstimationStatus::kConverged; break;
+    case nlopt::XTOL_REACHED:
+      run.status = EstimationStatus::kConverged;
+      break;
     case nlopt::MAXEVAL_REACHED:
-    case nlopt::MAXTIME_REACHED: run.status = EstimationStatus::kIterationLimit; break;
-    default: run.status = EstimationStatus::kFailed; break;
+    case nlopt::MAXTIME_REACHED:
+      run.status = EstimationStatus::kIterationLimit;
+      break;
+    default:
+      run.status = EstimationStatus::kFailed;
+      break;
   }
   run.message = options.algorithm + ": " + ResultName(result);
   run.details = {{"algorithm", options.algorithm}, {"nlopt_result", static_cast<int>(result)}};
@@ -104,38 +123,23 @@ MinimizerRun Minimize(const PreparedErrorModel& prep, const RowWeighting& weight
 
 }  // namespace
 
-bool NloptOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!ErrorModelEstimatorOptions::IsValid(why)) return false;
-  const auto& names = SupportedAlgorithms();
-  if (std::find(names.begin(), names.end(), algorithm) == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    return fail("algorithm must be one of " + list + ", got '" + algorithm + "'");
-  }
-  if (max_evaluations < 1) return fail("max_evaluations must be >= 1");
-  const auto nonnegative = [](double v) { return v >= 0.0 && std::isfinite(v); };
-  if (!nonnegative(max_time_seconds)) return fail("max_time_seconds must be >= 0");
-  if (!nonnegative(function_tolerance)) return fail("function_tolerance must be >= 0");
-  if (!nonnegative(parameter_tolerance)) return fail("parameter_tolerance must be >= 0");
-  return true;
+const OptionTable<NloptOptions>& NloptOptions::Table() {
+  using O = NloptOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("nlopt")
+          .Include(ErrorModelEstimatorOptions::Table())
+          .Add("algorithm", &O::algorithm, "a bounded NLopt local algorithm (LD_SLSQP, LN_BOBYQA, ...)",
+               OneOf(SupportedAlgorithms()))
+          .Add("max_evaluations", &O::max_evaluations, "cost (and gradient) evaluations", AtLeast(1))
+          .Add("max_time_seconds", &O::max_time_seconds, "wall time limit, s; 0: none", NonNegative())
+          .Add("function_tolerance", &O::function_tolerance, "NLopt ftol_rel", NonNegative())
+          .Add("parameter_tolerance", &O::parameter_tolerance, "NLopt xtol_abs on the scaled variables", NonNegative());
+  return table;
 }
 
-NloptOptions NloptOptions::FromYaml(const YAML::Node& node) {
-  NloptOptions o;
-  OptionsReader reader(node, "nlopt");
-  o.ReadShared(&reader);
-  reader.Get("algorithm", &o.algorithm);
-  reader.Get("max_evaluations", &o.max_evaluations);
-  reader.Get("max_time_seconds", &o.max_time_seconds);
-  reader.Get("function_tolerance", &o.function_tolerance);
-  reader.Get("parameter_tolerance", &o.parameter_tolerance);
-  reader.Finish();
-  return o;
-}
+bool NloptOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
+NloptOptions NloptOptions::FromYaml(const YAML::Node& node) { return Table().Read(node); }
 
 void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                                 EstimationReport* report) const {

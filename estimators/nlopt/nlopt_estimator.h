@@ -34,13 +34,15 @@ struct NloptOptions : ErrorModelEstimatorOptions {
   // Cost (and gradient) evaluations, each a pass over the data. SLSQP needs about 100; the derivative-free
   // BOBYQA about 250 per free parameter.
   int max_evaluations = 20000;
-  double max_time_seconds = 0.0;       // 0: no limit
+  double max_time_seconds = 0.0;  // 0: no limit
   // Stop when a step changes the cost by less than this fraction of it (NLopt ftol_rel).
   double function_tolerance = 1e-15;
   // Stop when a step changes every scaled variable by less than this (NLopt xtol_abs on y; 1 = one
   // characteristic scale, so 1e-12 is 1 fm / 1 frad).
   double parameter_tolerance = 1e-12;
 
+  // Every key, its default, doc and requirement (framework/options.h).
+  static const OptionTable<NloptOptions>& Table();
   bool IsValid(std::string* why) const;
   static NloptOptions FromYaml(const YAML::Node& node);
 };

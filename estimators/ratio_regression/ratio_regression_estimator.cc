@@ -12,21 +12,23 @@ namespace kincal {
 
 using geometric::ArcFit;
 
-bool RatioRegressionEstimator::Options::IsValid(std::string* why) const {
-  if (!arc.IsValid(why)) return false;
-  return IsValidStddevMethod(stddev, bootstrap_samples, why);
+const OptionTable<RatioRegressionEstimator::Options>& RatioRegressionEstimator::Options::Table() {
+  using O = RatioRegressionEstimator::Options;
+  static const OptionTable<O> table =
+      OptionTable<O>("ratio_regression")
+          .Include(geometric::ArcFitOptions::Table(), &O::arc)
+          .Add("marker", &O::marker, "the marker whose sweeps to use; empty: every marker")
+          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
+          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
+          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
+          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+  return table;
 }
 
+bool RatioRegressionEstimator::Options::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+
 RatioRegressionEstimator::Options RatioRegressionEstimator::Options::FromYaml(const YAML::Node& node) {
-  OptionsReader reader(node, "ratio_regression");
-  Options o;
-  ReadArcFitOptions(&reader, &o.arc);
-  reader.Get("marker", &o.marker);
-  reader.Get("stddev", &o.stddev);
-  reader.Get("bootstrap_samples", &o.bootstrap_samples);
-  reader.Get("bootstrap_seed", &o.bootstrap_seed);
-  reader.Finish();
-  return o;
+  return Table().Read(node);
 }
 
 void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
@@ -34,18 +36,23 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + OneLine(why));
   if (!start.drives) {
-    throw std::invalid_argument("ratio_regression: the robot has no drives (ratio, counts_per_rev): there is no ratio to identify");
+    throw std::invalid_argument(
+        "ratio_regression: the robot has no drives (ratio, counts_per_rev): there is no ratio to identify");
   }
   if (!data.HasEncoders() && !controller.drives) {
-    throw std::invalid_argument("ratio_regression: " + data.source +
-                                ": the rows carry no encoder counts and the controller has no drives, so the motor angles are unknown");
+    throw std::invalid_argument(
+        "ratio_regression: " + data.source +
+        ": the rows carry no encoder counts and the controller has no drives, so the motor angles are unknown");
   }
   const int n = start.dof();
-  const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "ratio_regression");
+  const geometric::SweepSet sweeps =
+      geometric::ExtractSweeps(controller, start, data, options_.marker, "ratio_regression");
   std::vector<int> joints;
   for (int j = 1; j <= n; ++j) {
-    if (sweeps.Swept(j)) joints.push_back(j);
-    else report->warnings.push_back("joint " + std::to_string(j) + " was never swept: its ratio is kept");
+    if (sweeps.Swept(j))
+      joints.push_back(j);
+    else
+      report->warnings.push_back("joint " + std::to_string(j) + " was never swept: its ratio is kept");
   }
   std::vector<ArcFit> fits(n);
   for (int j : joints) {
@@ -112,14 +119,16 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
     report->parameters.push_back(p);
     report->fixed_parameters.push_back(p.name);
   }
-  report->details = {{"circle_fit", geometric::ToString(options_.arc.circle_fit)},
-                     {"motor_angle_from", data.HasEncoders() ? "encoder counts" : "commanded angles x controller ratio"},
-                     {"joints", per_joint},
-                     {"stddev", {{"method", u.method},
-                                 {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
-                                 {"degrees_of_freedom", u.degrees_of_freedom},
-                                 {"replicates", u.replicates},
-                                 {"note", u.note}}}};
+  report->details = {
+      {"circle_fit", geometric::ToString(options_.arc.circle_fit)},
+      {"motor_angle_from", data.HasEncoders() ? "encoder counts" : "commanded angles x controller ratio"},
+      {"joints", per_joint},
+      {"stddev",
+       {{"method", u.method},
+        {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
+        {"degrees_of_freedom", u.degrees_of_freedom},
+        {"replicates", u.replicates},
+        {"note", u.note}}}};
   report->status = EstimationStatus::kConverged;
   report->message = "ratios of " + std::to_string(joints.size()) + " joints from their sweeps";
 }

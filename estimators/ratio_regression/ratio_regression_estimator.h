@@ -27,12 +27,14 @@ class RatioRegressionEstimator final : public Estimator {
   struct Options {
     // Arc fit (circle_fit, min_spread, min_curvature_ratio, max_iterations), as the geometric estimator.
     geometric::ArcFitOptions arc;
-    std::string marker;                 // as the geometric estimator
+    std::string marker;  // as the geometric estimator
     // Standard deviations: "propagation" (default), "bootstrap" or "none" (geometric/uncertainty.h).
     std::string stddev = "propagation";
     int bootstrap_samples = 200;
     int bootstrap_seed = 1;
 
+    // Every key, its default, doc and requirement (framework/options.h).
+    static const OptionTable<Options>& Table();
     bool IsValid(std::string* why) const;
     static Options FromYaml(const YAML::Node& node);
   };

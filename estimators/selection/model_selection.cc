@@ -8,18 +8,16 @@
 
 namespace kincal {
 
-bool ModelSelectionOptions::IsValid(std::string* why) const {
-  if (folds < 2) {
-    if (why) *why = "select_folds must be at least 2, got '" + std::to_string(folds) + "'";
-    return false;
-  }
-  return true;
+const OptionTable<ModelSelectionOptions>& ModelSelectionOptions::Table() {
+  using O = ModelSelectionOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("model selection")
+          .Add("select", &O::select, "choose the joint-error terms by blocked K-fold cross-validation")
+          .Add("select_folds", &O::folds, "K, the folds of the cross-validation", AtLeast(2));
+  return table;
 }
 
-void ModelSelectionOptions::Read(OptionsReader* reader) {
-  reader->Get("select", &select);
-  reader->Get("select_folds", &folds);
-}
+bool ModelSelectionOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 std::vector<SelectionCandidate> NestedCandidates(const Robot& start) {
   const auto& terms = start.joint_errors.terms;

@@ -27,11 +27,11 @@
 //      (c_t + 2 dx^T b_t + dx^T A_t dx) / rows: the linearised prediction of the block.
 // The fold's RMS is the square root, per session, averaged over the sessions of the block: sessions weigh
 // alike, so that the few rows that re-register the base of a new campaign (the ones that show how the
-// model carries over to it) count as much as the campaign it was fitted on. A candidate's CV RMS is the mean of its K fold RMS and se their
-// standard deviation over sqrt(K). The simplest candidate whose CV RMS is within one se of the best
-// (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the
-// start robot with that candidate's terms: the identified robot holds only the chosen terms.
-// Deterministic: no randomness, folds from the row order.
+// model carries over to it) count as much as the campaign it was fitted on. A candidate's CV RMS is the mean of its K
+// fold RMS and se their standard deviation over sqrt(K). The simplest candidate whose CV RMS is within one se of the
+// best (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the start robot
+// with that candidate's terms: the identified robot holds only the chosen terms. Deterministic: no randomness, folds
+// from the row order.
 // With `prior: on` (error_model_problem.h) the folds' geometry fits and the final fit are maximum a
 // posteriori; the candidates' one-step scores use the data's normal equations only. That is the setting
 // that meets the selection criteria on real data carried to another campaign (ur10_ipa2021 B -> C, README
@@ -53,13 +53,14 @@ struct ModelSelectionOptions {
   bool select = false;  // key `select`
   int folds = 5;        // key `select_folds`: K, >= 2
 
+  // Keys select, select_folds.
+  static const OptionTable<ModelSelectionOptions>& Table();
   bool IsValid(std::string* why) const;
-  void Read(OptionsReader* reader);
 };
 
 struct SelectionCandidate {
-  std::string name;         // "geometry", "+ gravity 2", "+ harmonic 1", ...
-  std::vector<int> terms;   // indices into start.joint_errors.terms, in file order
+  std::string name;        // "geometry", "+ gravity 2", "+ harmonic 1", ...
+  std::vector<int> terms;  // indices into start.joint_errors.terms, in file order
 };
 // The nested candidates of `start` (see above); the first is geometry, the last the full file.
 std::vector<SelectionCandidate> NestedCandidates(const Robot& start);

@@ -32,8 +32,8 @@ struct FoldSums {
   std::map<int, TestSums> test;
 };
 
-FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& weighting,
-                        const std::vector<int>& fold, int k, const std::set<int>& registered_sessions) {
+FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& weighting, const std::vector<int>& fold,
+                        int k, const std::set<int>& registered_sessions) {
   const int p = problem.num_parameters();
   FoldSums s;
   s.A = Eigen::MatrixXd::Zero(p, p);
@@ -85,7 +85,8 @@ Eigen::VectorXd GaussNewtonStep(const FoldSums& s, const std::vector<int>& colum
   const Eigen::VectorXd& lambda = eig.eigenvalues();
   const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(q);
-  for (int a = 0; a < q; ++a) if (lambda[a] > cut && lambda[a] > 0.0) inv[a] = 1.0 / lambda[a];
+  for (int a = 0; a < q; ++a)
+    if (lambda[a] > cut && lambda[a] > 0.0) inv[a] = 1.0 / lambda[a];
   const Eigen::VectorXd y = -(eig.eigenvectors() * (inv.asDiagonal() * (eig.eigenvectors().transpose() * g)));
   Eigen::VectorXd dx = Eigen::VectorXd::Zero(s.A.rows());
   for (int a = 0; a < q; ++a) dx[columns[a]] = d[a] * y[a];
@@ -96,7 +97,8 @@ Eigen::VectorXd GaussNewtonStep(const FoldSums& s, const std::vector<int>& colum
 std::vector<int> ColumnTerms(const ErrorModelProblem& problem) {
   std::vector<int> coefficient_term;
   const auto& terms = problem.start().joint_errors.terms;
-  for (size_t t = 0; t < terms.size(); ++t) coefficient_term.insert(coefficient_term.end(), terms[t].coefficients.size(), static_cast<int>(t));
+  for (size_t t = 0; t < terms.size(); ++t)
+    coefficient_term.insert(coefficient_term.end(), terms[t].coefficients.size(), static_cast<int>(t));
   std::vector<int> out;
   for (const auto& p : problem.parameters()) {
     out.push_back(p.group == ErrorModelParameter::Group::kJointError ? coefficient_term.at(p.coefficient) : -1);

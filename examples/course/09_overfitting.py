@@ -3,7 +3,7 @@
 The "real" arm here is the seed's identified arm plus a small eccentricity in joints 2 and 3 (a once-per-turn
 angle error of 0.004 deg in sin and in cos). Two models are fitted to the same measurements (30 um noise): the
 geometry (MDH and ratios, 33 free parameters) and the geometry with sin/cos terms of orders 1 and 2 on every
-joint (24 more). On few poses the richer model fits the noise and predicts held-out poses worse; on many it
+joint (up to 24 more). On few poses the richer model fits the noise and predicts held-out poses worse; on many it
 captures the eccentricity and wins. Cross-validation (5 folds of the training rows, no held-out data
 needed) sees the same thing from the training set alone and picks the better model for each size (its
 errors include the scored rows' own noise, 30 um x sqrt(3) = 52 um: only the comparison counts). The

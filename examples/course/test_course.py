@@ -178,9 +178,10 @@ def test_09_overfitting(tmp_path):
     curve = {int(m[0]): (int(m[1]), float(m[2]), int(m[3]), float(m[4])) for m in re.findall(
         r"^\s*(\d+) poses: geometry (\d+) free, held-out (\S+) mm; \+ harmonics (\d+) free, held-out (\S+) mm;", out, re.M)}
     assert sorted(curve) == [25, 40, 60, 100, 200, 400], out
-    assert all(c[0] == 33 and c[2] == 57 for c in curve.values()), out  # 24 harmonic coefficients more
-    for n in (25, 40, 60):  # too few poses for 57 parameters: the richer model predicts worse
-        assert curve[n][3] > 1.3 * curve[n][1], out
+    # Up to 24 harmonic coefficients more; on few poses the identifiability analysis holds some of them.
+    assert all(c[0] == 33 and 33 < c[2] <= 57 for c in curve.values()) and curve[400][2] >= 55, out
+    for n in (25, 40):  # too few poses for the richer model: it predicts worse
+        assert curve[n][3] > 1.15 * curve[n][1], out
     assert curve[400][3] < 0.7 * curve[400][1], out  # enough poses: it captures the eccentricity
     assert curve[400][3] < curve[25][3] / 4, out
     choices = re.findall(r"^\s*(\d+) poses, 5-fold cross-validation: .* -> chooses (.+); held-out best: (.+)$", out, re.M)
@@ -191,3 +192,14 @@ def test_09_overfitting(tmp_path):
     selected = dict(re.findall(r"^\s*(\d+) poses, select: true chooses (.+) \(\d+ parameters\) among 7 nested", out, re.M))
     assert selected["40"] == "geometry", out
     assert selected["400"].startswith("+ harmonic ") and int(selected["400"].split()[-1]) >= 3, out
+
+
+def test_10_filtering_a_program(tmp_path):
+    out = run("10_filtering_a_program", tmp_path)
+    assert "urscript: 5 Cartesian and 1 joint targets; 6 filtered, 0 kept as written" in out, out
+    rows = numbers(r"target \d: written (\S+) mm away; real arm off by (\S+) mm unfiltered, (\S+) mm filtered", out)
+    assert len(rows) == 5, out
+    for moved, before, after in rows:
+        # Up to 1 mm and 0.1 deg per parameter leave millimetres; the filter moves each target by about as much
+        # (to first order exactly the error), and the controller then puts the real arm on the original target.
+        assert 1 < before < 10 and abs(moved - before) < 0.1 * before and after < 1e-6, out

@@ -41,7 +41,8 @@ class NewtonCompensator final : public kincal::Compensator {
       const Eigen::Isometry3d T = model.ForwardKinematics(q);
       Eigen::VectorXd e(target.has_orientation ? 6 : 3);
       e.head<3>() = (target.T_meas_tool.translation() - T.translation()) / options_.length_scale;
-      if (target.has_orientation) e.tail<3>() = kincal::RotationLog(target.T_meas_tool.linear() * T.linear().transpose());
+      if (target.has_orientation)
+        e.tail<3>() = kincal::RotationLog(target.T_meas_tool.linear() * T.linear().transpose());
       report.position_history.push_back(e.head<3>().norm() * options_.length_scale);
       report.orientation_history.push_back(target.has_orientation ? e.tail<3>().norm() : 0.0);
       if (k == options_.max_iterations) break;
@@ -61,8 +62,9 @@ class NewtonCompensator final : public kincal::Compensator {
         const Eigen::Isometry3d T_last = model.ForwardKinematics(q);
         report.position_history.push_back((target.T_meas_tool.translation() - T_last.translation()).norm());
         report.orientation_history.push_back(
-            target.has_orientation ? kincal::RotationLog(target.T_meas_tool.linear() * T_last.linear().transpose()).norm()
-                                   : 0.0);
+            target.has_orientation
+                ? kincal::RotationLog(target.T_meas_tool.linear() * T_last.linear().transpose()).norm()
+                : 0.0);
         break;
       }
     }
@@ -75,14 +77,15 @@ class NewtonCompensator final : public kincal::Compensator {
 }  // namespace
 
 KINCAL_PLUGIN(registrar) {
-  registrar.AddEstimator(
-      "example_least_squares", "example plugin: kincal's least_squares built by a plugin (same options)",
-      [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
-        const auto options = kincal::LeastSquaresEstimator::Options::FromYaml(node);
-        std::string why;
-        if (!options.IsValid(&why)) throw std::invalid_argument("invalid options: " + kincal::OneLine(why));
-        return std::make_unique<kincal::LeastSquaresEstimator>(options);
-      });
+  registrar.AddEstimator("example_least_squares",
+                         "example plugin: kincal's least_squares built by a plugin (same options)",
+                         [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
+                           const auto options = kincal::LeastSquaresEstimator::Options::FromYaml(node);
+                           std::string why;
+                           if (!options.IsValid(&why))
+                             throw std::invalid_argument("invalid options: " + kincal::OneLine(why));
+                           return std::make_unique<kincal::LeastSquaresEstimator>(options);
+                         });
   registrar.AddCompensator(
       "example_newton", "example plugin: undamped Newton steps on the 6-D pose error of the identified arm",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Compensator> {
@@ -93,7 +96,8 @@ KINCAL_PLUGIN(registrar) {
         reader.Get("step_tolerance", &options.step_tolerance);
         reader.Finish();
         if (!(options.length_scale > 0) || options.max_iterations < 1 || !(options.step_tolerance > 0)) {
-          throw std::invalid_argument("example_newton: length_scale, max_iterations and step_tolerance must be positive");
+          throw std::invalid_argument(
+              "example_newton: length_scale, max_iterations and step_tolerance must be positive");
         }
         return std::make_unique<NewtonCompensator>(options);
       });

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "robot/robot_file.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
@@ -16,13 +17,12 @@ using testing::SourcePath;
 
 std::string Example(const std::string& file) { return SourcePath("examples/robots/" + file); }
 
-int LineCount(const std::string& text) {
-  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-}
+int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 std::vector<std::string> FilesIn(const std::string& folder) {
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+    names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -62,6 +62,48 @@ TEST(Cli, FkRejectsAWrongNumberOfJoints) {
   EXPECT_TRUE(r.out.empty());
 }
 
+// The geometric method starts from any convention: the IRB 120 example in Hayati's geometry, swept, is
+// identified in Hayati's geometry (converted exactly to modified DH for the construction and back), and
+// reproduces the sweeps it was built from. A robot it cannot start from is named, not the dataset.
+TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
+  testing::TempDir dir;
+  // The example's three reflectors sit at the flange, on axis 6: placed apart, each sweep moves them.
+  std::string text = testing::ReadText(Example("irb120_joint_errors.yaml"));
+  const std::string at_flange = "markers: {SMR1: [0, 0, 0], SMR2: [0, 0, 0], SMR3: [0, 0, 0]}";
+  ASSERT_NE(text.find(at_flange), std::string::npos);
+  text.replace(text.find(at_flange), at_flange.size(),
+               "markers: {SMR1: [60, 40, 30], SMR2: [-50, 30, 20], SMR3: [10, -60, 40]}");
+  const std::string robot = dir.path("irb120.yaml"), data = dir.path("sweep.csv");
+  testing::WriteText(robot, text);
+  ASSERT_EQ(RunKincal("simulate --nominal " + robot + " --truth " + robot + " --protocol sweep --seed 3 --out " + data)
+                .exit_code,
+            0);
+  const auto r = RunKincal("identify --nominal " + robot + " --data " + data + " --method geometric --out " +
+                           dir.path("out.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Robot identified = ReadRobotFile(dir.path("out.yaml"));
+  EXPECT_EQ(identified.model().convention(), "hayati");
+  const Robot start = ReadRobotFile(robot);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(start.dof());
+  for (int i = 0; i < q.size(); ++i) q[i] = 0.3 * (i + 1);
+  // Noise-free sweeps of the start robot itself: the identified arm is the start arm.
+  EXPECT_LT((identified.model().ForwardKinematics(q).matrix() - start.model().ForwardKinematics(q).matrix())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-9);
+
+  testing::WriteText(dir.path("prismatic.yaml"),
+                     "name: p\nconvention: mdh\nunits: {length: mm, angle: deg}\n"
+                     "joints:\n  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
+                     "  - {alpha: 90, a: 100, theta: 0, d: 0, type: prismatic}\n");
+  testing::WriteText(dir.path("two.csv"), "q1_deg,q2_deg,x_mm,y_mm,z_mm,sweep\n0,0,100,0,0,1\n");
+  const auto bad = RunKincal("identify --nominal " + dir.path("prismatic.yaml") + " --data " + dir.path("two.csv") +
+                             " --method geometric --out " + dir.path("p_out.yaml"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err.rfind("kincal: " + dir.path("prismatic.yaml") + ": ", 0), 0u) << bad.err;
+  EXPECT_NE(bad.err.find("prismatic"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, SimulateWritesAFileThatReadsBackAsTheLibrarysDataset) {
   testing::TempDir dir;
   const std::string out = dir.path("sweep.csv");
@@ -84,8 +126,8 @@ TEST(Cli, SimulateWritesAFileThatReadsBackAsTheLibrarysDataset) {
   }
   // The same command again gives the same bytes.
   const std::string again = dir.path("again.csv");
-  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " + Example("seed_identified.yaml") +
-                      " --protocol sweep --noise 10um --seed 7 --out " + again)
+  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " +
+                      Example("seed_identified.yaml") + " --protocol sweep --noise 10um --seed 7 --out " + again)
                 .exit_code,
             0);
   EXPECT_EQ(testing::ReadText(again), testing::ReadText(out));
@@ -134,6 +176,28 @@ TEST(Cli, BadDatasetNamesItsLineAndColumn) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A pipeline's options file keyed by method names may leave a method out: that method gets its defaults,
+// and the listed one its options (here an iteration cap that shows in its stage of the report).
+TEST(Cli, PipelineOptionsFileMayOmitAMethod) {
+  testing::TempDir dir;
+  const std::string data = dir.path("sweep.csv");
+  ASSERT_EQ(RunKincal("simulate --nominal " + Example("seed_nominal.yaml") + " --truth " +
+                      Example("seed_identified.yaml") + " --protocol sweep --noise 10um --seed 7 --out " + data)
+                .exit_code,
+            0);
+  const std::string options = dir.path("o.yaml");
+  testing::WriteText(options, "least_squares: {max_iterations: 1}\n");
+  const std::string report = dir.path("report.json");
+  const auto r = RunKincal("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                           " --method least_squares,none --options " + options + " --out " +
+                           dir.path("identified.yaml") + " --report " + report);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(report));
+  ASSERT_EQ(json["stages"].size(), 2u);
+  EXPECT_LE(json["stages"][0]["iterations"].get<int>(), 1) << json["stages"][0].dump();
+  EXPECT_TRUE(std::filesystem::exists(dir.path("identified.yaml")));
+}
+
 TEST(Cli, MissingInputFileIsBadInput) {
   const auto r = RunKincal("fk /nonexistent/robot.yaml --q=0");
   EXPECT_EQ(r.exit_code, 2);
@@ -157,6 +221,26 @@ TEST(Cli, HelpAndMethodsExitZero) {
   EXPECT_EQ(methods.exit_code, 0) << methods.err;
   for (const char* name : {"mdh", "dh", "none"}) EXPECT_NE(methods.out.find(name), std::string::npos) << name;
   EXPECT_EQ(RunKincal("fk --help").exit_code, 0);
+}
+
+// `kincal methods --options NAME` prints the options from the table they are read by: every key with its
+// default (least_squares' max_iterations 50, the shared bound_angle_deg 5 deg, loss_scale 1e-4 m).
+TEST(Cli, MethodsPrintEachMethodsOptionsWithDefaults) {
+  const auto r = RunKincal("methods --options least_squares");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const auto line_of = [&](const std::string& key) {
+    const size_t at = r.out.find("  " + key + " ");
+    return at == std::string::npos ? std::string() : r.out.substr(at, r.out.find('\n', at) - at);
+  };
+  EXPECT_NE(line_of("max_iterations").find(" 50 "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("bound_angle_deg").find(" 5 "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("loss_scale").find(" 0.0001 m "), std::string::npos) << r.out;
+  EXPECT_NE(line_of("fixed").find("list"), std::string::npos) << r.out;
+  const auto jacobian = RunKincal("methods --options jacobian");
+  EXPECT_NE(jacobian.out.find("random_starts"), std::string::npos) << jacobian.out;
+  const auto unknown = RunKincal("methods --options no_such_method");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("no_such_method"), std::string::npos);
 }
 
 }  // namespace

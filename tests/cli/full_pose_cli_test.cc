@@ -52,9 +52,9 @@ TEST(FullPoseCli, PositionOnlyDataHasNoOrientationLines) {
                       " --protocol random --poses 60 --noise 10um --seed 3 --out " + train)
                 .exit_code,
             0);
-  const CommandResult r = RunKincal("identify --nominal " + kNominal + " --data " + train + " --validate " + train +
-                                    " --method least_squares --out " + tmp.path("id.yaml") + " --report " +
-                                    tmp.path("report.json"));
+  const CommandResult r =
+      RunKincal("identify --nominal " + kNominal + " --data " + train + " --validate " + train +
+                " --method least_squares --out " + tmp.path("id.yaml") + " --report " + tmp.path("report.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("orientation error"), std::string::npos) << r.out;
   const nlohmann::json report = nlohmann::json::parse(ReadText(tmp.path("report.json")));

@@ -34,9 +34,9 @@ TEST(IkCli, SolvesEveryTargetAndWritesEveryBranchOnRequest) {
   targets << "x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
   // The fourth: stretched (q3 = 0) with the wrist singular (q5 = 180 deg), one member of a continuum.
   const double configurations[4][6] = {{0.3, -1.2, 1.1, -0.5, 1.4, 0.2},
-                                        {-2.0, -0.4, 2.0, 1.0, -0.7, 3.0},
-                                        {1.0, -2.2, -1.5, 0.4, 2.2, -1.0},
-                                        {-M_PI / 2, M_PI / 4, 0.0, -M_PI / 2, M_PI, M_PI / 2}};
+                                       {-2.0, -0.4, 2.0, 1.0, -0.7, 3.0},
+                                       {1.0, -2.2, -1.5, 0.4, 2.2, -1.0},
+                                       {-M_PI / 2, M_PI / 4, 0.0, -M_PI / 2, M_PI, M_PI / 2}};
   for (const auto& c : configurations) {
     const Eigen::Isometry3d T = robot.model().ForwardKinematics(Eigen::Map<const Eigen::VectorXd>(c, 6));
     const Eigen::Quaterniond quat(T.linear());
@@ -46,7 +46,8 @@ TEST(IkCli, SolvesEveryTargetAndWritesEveryBranchOnRequest) {
   // A fifth target 5 m away: unreachable, finite joints.
   targets << "5000,0,0,1,0,0,0\n";
   testing::WriteText(dir.path("targets.csv"), targets.str());
-  const auto r = RunKincal("ik " + robot_file + " --targets " + dir.path("targets.csv") + " --out " + dir.path("q.csv"));
+  const auto r =
+      RunKincal("ik " + robot_file + " --targets " + dir.path("targets.csv") + " --out " + dir.path("q.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = ReadCsv(testing::ReadText(dir.path("q.csv")));
   ASSERT_EQ(rows.size(), 6u);

@@ -1,4 +1,4 @@
-// The command line with joint-level errors (issue 11): `kincal predict` gives, row by row and in order,
+// The command line with joint-level errors: `kincal predict` gives, row by row and in order,
 // where the robot puts each measured point (the truth predicts its own noise-free data exactly); a
 // compensated program reaches its targets on the real arm; bad input ends with exit 2 and one line.
 #include <gtest/gtest.h>
@@ -36,8 +36,8 @@ TEST(JointLevelCli, PredictGivesEveryRowInOrder) {
   TempDir dir;
   const std::string real = WriteRealArm(dir);
   const std::string nominal = SourcePath("examples/robots/seed_nominal.yaml");
-  auto r = RunKincal("simulate --nominal " + nominal + " --truth " + real + " --protocol random --poses 25 --seed 3 --out " +
-                     dir.path("data.csv"));
+  auto r = RunKincal("simulate --nominal " + nominal + " --truth " + real +
+                     " --protocol random --poses 25 --seed 3 --out " + dir.path("data.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunKincal("predict --robot " + real + " --nominal " + nominal + " --data " + dir.path("data.csv") + " --out " +
                 dir.path("pred.csv"));
@@ -55,8 +55,8 @@ TEST(JointLevelCli, PredictGivesEveryRowInOrder) {
   Robot plain = truth;
   plain.joint_errors = JointErrors();
   WriteRobotFile(plain, dir.path("plain.yaml"));
-  r = RunKincal("predict --robot " + dir.path("plain.yaml") + " --nominal " + nominal + " --data " + dir.path("data.csv") +
-                " --out " + dir.path("pred2.csv"));
+  r = RunKincal("predict --robot " + dir.path("plain.yaml") + " --nominal " + nominal + " --data " +
+                dir.path("data.csv") + " --out " + dir.path("pred2.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("RMS error"), std::string::npos);
   const CsvTable t2 = ParseCsv(testing::ReadText(dir.path("pred2.csv")), "pred2.csv");
@@ -74,11 +74,13 @@ TEST(JointLevelCli, PredictRejectsBadInputWithOneLine) {
   EXPECT_NE(r.err.find("three.csv:1:1:"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.path("p.csv")));
-  testing::WriteText(dir.path("m.csv"), "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,marker\n0,0,0,0,0,0,1,2,3,SMR9\n");
+  testing::WriteText(dir.path("m.csv"),
+                     "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,marker\n0,0,0,0,0,0,1,2,3,SMR9\n");
   r = RunKincal("predict --robot " + robot + " --data " + dir.path("m.csv") + " --out " + dir.path("p.csv"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("m.csv:2: robot 'seed_nominal' has no marker 'SMR9'"), std::string::npos) << r.err;
-  r = RunKincal("predict --robot " + dir.path("none.yaml") + " --data " + dir.path("m.csv") + " --out " + dir.path("p.csv"));
+  r = RunKincal("predict --robot " + dir.path("none.yaml") + " --data " + dir.path("m.csv") + " --out " +
+                dir.path("p.csv"));
   EXPECT_EQ(r.exit_code, 2);
 }
 
@@ -101,8 +103,8 @@ TEST(JointLevelCli, CompensateTakesTheTargetsAsAProgram) {
     csv += FormatExact(o.w()) + "," + FormatExact(o.x()) + "," + FormatExact(o.y()) + "," + FormatExact(o.z()) + "\n";
   }
   testing::WriteText(dir.path("targets.csv"), csv);
-  auto r = RunKincal("compensate --nominal " + nominal + " --identified " + real + " --targets " + dir.path("targets.csv") +
-                     " --method analytic_derivative --out " + dir.path("q.csv"));
+  auto r = RunKincal("compensate --nominal " + nominal + " --identified " + real + " --targets " +
+                     dir.path("targets.csv") + " --method analytic_derivative --out " + dir.path("q.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Dataset targets = ReadDataset(dir.path("targets.csv"));
   const CsvTable out = ParseCsv(testing::ReadText(dir.path("q.csv")), "q.csv");

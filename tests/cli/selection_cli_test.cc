@@ -19,11 +19,13 @@ TEST(SelectionCli, SelectsPrintsTheTableAndPredictGivesSd) {
   const std::string nominal = SourcePath("examples/robots/seed_nominal.yaml");
   // The nominal robot with joint-error terms the truth (the seed's identified arm) does not have.
   std::string text = testing::ReadText(nominal);
-  text += "velocity_limits: [250, 250, 250, 320, 320, 420]\njoint_errors:\n"
-          "  - {joint: 2, type: gravity}\n  - {joint: 1, type: backlash}\n";
+  text +=
+      "velocity_limits: [250, 250, 250, 320, 320, 420]\njoint_errors:\n"
+      "  - {joint: 2, type: gravity}\n  - {joint: 1, type: backlash}\n";
   testing::WriteText(dir.path("declared.yaml"), text);
-  auto r = RunKincal("simulate --nominal " + nominal + " --truth " + SourcePath("examples/robots/seed_identified.yaml") +
-                     " --protocol random --poses 150 --noise 20um --seed 4 --out " + dir.path("data.csv"));
+  auto r =
+      RunKincal("simulate --nominal " + nominal + " --truth " + SourcePath("examples/robots/seed_identified.yaml") +
+                " --protocol random --poses 150 --noise 20um --seed 4 --out " + dir.path("data.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunKincal("identify --nominal " + dir.path("declared.yaml") + " --data " + dir.path("data.csv") +
                 " --method least_squares --select --out " + dir.path("id.yaml") + " --report " + dir.path("r.json"));

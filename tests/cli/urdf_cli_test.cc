@@ -22,7 +22,8 @@ double Gap(const Robot& a, const Robot& b, uint64_t seed) {
     Eigen::VectorXd q(a.dof());
     for (int j = 0; j < a.dof(); ++j) q[j] = rng.Uniform(a.Limit(j).first, a.Limit(j).second);
     const Eigen::Isometry3d Ta = a.model().ForwardKinematics(q), Tb = b.model().ForwardKinematics(q);
-    worst = std::max({worst, (Ta.translation() - Tb.translation()).norm(), (Ta.linear() - Tb.linear()).cwiseAbs().maxCoeff()});
+    worst = std::max(
+        {worst, (Ta.translation() - Tb.translation()).norm(), (Ta.linear() - Tb.linear()).cwiseAbs().maxCoeff()});
   }
   return worst;
 }
@@ -72,11 +73,12 @@ TEST(UrdfCli, BadUrdfIsExitTwoAndOneLine) {
     <joint name="j" type="floating"><parent link="a"/><child link="b"/></joint></robot>)");
   testing::WriteText(dir.path("broken.urdf"), "<robot name=\"r\">\n  <link name=\"a\">\n</robot>\n");
   const std::string out = dir.path("out.yaml");
-  for (const std::string& args : {"import " + dir.path("float.urdf") + " --base a --tip b --out " + out,
-                                  "import " + dir.path("broken.urdf") + " --base a --tip a --out " + out,
-                                  "import " + SourcePath("tests/data/irb120_3_58.urdf") + " --base tool0 --tip base_link --out " + out,
-                                  "import " + SourcePath("tests/data/irb120_3_58.urdf") +
-                                      " --base base_link --tip tool0 --convention screw --out " + out}) {
+  for (const std::string& args :
+       {"import " + dir.path("float.urdf") + " --base a --tip b --out " + out,
+        "import " + dir.path("broken.urdf") + " --base a --tip a --out " + out,
+        "import " + SourcePath("tests/data/irb120_3_58.urdf") + " --base tool0 --tip base_link --out " + out,
+        "import " + SourcePath("tests/data/irb120_3_58.urdf") +
+            " --base base_link --tip tool0 --convention screw --out " + out}) {
     const auto r = RunKincal(args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -31,7 +31,8 @@ TEST(AnalyticDerivativeOptions, FromYaml) {
   EXPECT_EQ(o.iteration.max_step_halvings, 3);
   std::string why;
   EXPECT_TRUE(o.IsValid(&why)) << why;
-  EXPECT_THROW(AnalyticDerivativeCompensator::Options::FromYaml(YAML::Load("{lenght_scale: 1}")), std::invalid_argument);
+  EXPECT_THROW(AnalyticDerivativeCompensator::Options::FromYaml(YAML::Load("{lenght_scale: 1}")),
+               std::invalid_argument);
   AnalyticDerivativeCompensator::Options bad;
   bad.length_scale = 0;
   EXPECT_FALSE(bad.IsValid(&why));

@@ -30,7 +30,8 @@ std::string TargetsCsv(const RandomTargets& targets, bool metres, bool orientati
   const std::string l = metres ? "_m" : "_mm";
   out << "# targets for kincal compensate\nx" << l << ",y" << l << ",z" << l;
   if (orientation) out << ",qw,qx,qy,qz";
-  if (seeds) for (int j = 1; j <= 6; ++j) out << ",q" << j << (radians ? "_rad" : "_deg");
+  if (seeds)
+    for (int j = 1; j <= 6; ++j) out << ",q" << j << (radians ? "_rad" : "_deg");
   out << "\n";
   for (const CompensationTarget& t : targets.targets) {
     const Eigen::Vector3d p = t.T_meas_tool.translation() * (metres ? 1.0 : 1e3);
@@ -39,7 +40,8 @@ std::string TargetsCsv(const RandomTargets& targets, bool metres, bool orientati
       const Eigen::Quaterniond quat(t.T_meas_tool.linear());
       out << "," << quat.w() << "," << quat.x() << "," << quat.y() << "," << quat.z();
     }
-    if (seeds) for (int j = 0; j < 6; ++j) out << "," << t.seed[j] * (radians ? 1.0 : 180 / M_PI);
+    if (seeds)
+      for (int j = 0; j < 6; ++j) out << "," << t.seed[j] * (radians ? 1.0 : 180 / M_PI);
     out << "\n";
   }
   return out.str();
@@ -112,9 +114,9 @@ TEST(CompensateCommand, OptionsFile) {
   TempDir dir;
   testing::WriteText(dir.path("t.csv"), TargetsCsv(testing::WellConditionedTargets(2, 45), false, true, true, false));
   testing::WriteText(dir.path("o.yaml"), "max_iterations: 0\n");
-  const auto run = RunKincal("compensate" + Robots() + " --targets " + dir.path("t.csv") +
-                             " --method analytic_derivative --options " + dir.path("o.yaml") + " --out " +
-                             dir.path("j.csv"));
+  const auto run =
+      RunKincal("compensate" + Robots() + " --targets " + dir.path("t.csv") +
+                " --method analytic_derivative --options " + dir.path("o.yaml") + " --out " + dir.path("j.csv"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const CsvTable out = ParseCsv(testing::ReadText(dir.path("j.csv")), "j.csv");
   for (const CsvRow& row : out.rows) EXPECT_EQ(row.cells[FindColumn(out, "status")], "iteration_limit");
@@ -124,7 +126,8 @@ TEST(CompensateCommand, BadInputExitsWithStatus2AndWritesNothing) {
   TempDir dir;
   const std::string good = TargetsCsv(testing::WellConditionedTargets(2, 46), false, true, true, false);
   testing::WriteText(dir.path("good.csv"), good);
-  testing::WriteText(dir.path("five_joints.csv"), "x_mm,y_mm,z_mm,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg\n1,2,3,0,0,0,0,0\n");
+  testing::WriteText(dir.path("five_joints.csv"),
+                     "x_mm,y_mm,z_mm,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg\n1,2,3,0,0,0,0,0\n");
   testing::WriteText(dir.path("no_z.csv"), "x_mm,y_mm\n1,2\n");
   testing::WriteText(dir.path("text.csv"), "x_mm,y_mm,z_mm\n1,2,abc\n");
   testing::WriteText(dir.path("encoders.csv"),

@@ -1,4 +1,4 @@
-// Issue 12: every target the real arm reaches is reached, with or without the controller's solution.
+// Every target the real arm reaches is reached, with or without the controller's solution.
 // The seed's arm (nominal: Table 1; identified: Table 2) is the hard case: its wrist is near-singular
 // over much of the joint space, and next to the folds of the nominal workspace the identified arm reaches
 // poses the nominal one does not (the controller has no solution) and vice versa.
@@ -130,7 +130,8 @@ INSTANTIATE_TEST_SUITE_P(Iterative, EveryTarget, ::testing::Values("analytic_der
 
 TEST(BranchRestartOptions, ReadAndValidated) {
   const auto c = Compensators().Create(
-      "jacobian", YAML::Load("{branch_restarts: false, same_branch_distance: 0.25, other_branches: false, random_starts: 7}"));
+      "jacobian",
+      YAML::Load("{branch_restarts: false, same_branch_distance: 0.25, other_branches: false, random_starts: 7}"));
   ASSERT_NE(c, nullptr);
   for (const char* bad : {"{same_branch_distance: 0}", "{random_starts: -1}", "{other_branches: 3}"}) {
     EXPECT_THROW(Compensators().Create("analytic_derivative", YAML::Load(bad)), std::invalid_argument) << bad;

@@ -30,7 +30,7 @@ struct FarBaseArm {
     nominal.model().SetBase(Eigen::Isometry3d::Identity());
     nominal.model().SetTool(Eigen::Isometry3d::Identity());
     identified.model().SetBase(PoseFromXyzRpy({1.2, 0.9, 0.1}, {0.0, 0.0, M_PI / 2}));  // 1.5 m, 90 deg about z
-    identified.model().SetTool(PoseFromXyzRpy({0.04, 0.03, 0.11}, {0.0, 0.2, 0.0}));     // 121 mm
+    identified.model().SetTool(PoseFromXyzRpy({0.04, 0.03, 0.11}, {0.0, 0.2, 0.0}));    // 121 mm
     controller = ControllerRobot(nominal, identified);
     RandomTargetOptions o;
     o.count = 2000;
@@ -175,11 +175,11 @@ TEST(FarBaseFigures, JointSpaceAndSeedlessAnalyticDerivative) {
   const double with_seeds = std::chrono::duration<double>(t1 - t0).count();
   const double without = std::chrono::duration<double>(t2 - t1).count();
   const double fraction = on_branch / double(branch_exists);
-  std::printf("far base: joint_space %.2f %% within 0.05 mm and 1e-4 rad; analytic_derivative without seeds: "
-              "%d reached, %d on the controller's branch of %d where it exists (%.2f %%); %.3f s against %.3f s "
-              "with seeds (%.2fx)\n",
-              100 * js_fraction, reached, on_branch, branch_exists, 100 * fraction, without, with_seeds,
-              without / with_seeds);
+  std::printf(
+      "far base: joint_space %.2f %% within 0.05 mm and 1e-4 rad; analytic_derivative without seeds: "
+      "%d reached, %d on the controller's branch of %d where it exists (%.2f %%); %.3f s against %.3f s "
+      "with seeds (%.2fx)\n",
+      100 * js_fraction, reached, on_branch, branch_exists, 100 * fraction, without, with_seeds, without / with_seeds);
   EXPECT_GE(fraction, 0.999);
   EXPECT_GE(reached, 0.999 * targets.size());
 }

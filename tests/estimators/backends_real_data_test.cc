@@ -35,10 +35,11 @@ TEST_P(BackendRealDataTest, Irb120FaroHeldOutErrorMatchesLeastSquares) {
   const ErrorStats train_stats = EvaluatePredictions(nominal, identified, train).position_stats;
   const ErrorStats heldout = EvaluatePredictions(nominal, identified, test).position_stats;
   std::printf("%s\n", report.BriefReport().c_str());
-  std::printf("train (%d rows): RMS %.4f mm; held-out (%d rows): RMS %.4f mm, mean %.4f mm, max %.4f mm\n"
-              "least_squares held-out RMS %.4f mm (reference fit 0.525 mm)\n",
-              train_stats.count, train_stats.rms * 1e3, heldout.count, heldout.rms * 1e3, heldout.mean * 1e3,
-              heldout.max * 1e3, ls_heldout.rms * 1e3);
+  std::printf(
+      "train (%d rows): RMS %.4f mm; held-out (%d rows): RMS %.4f mm, mean %.4f mm, max %.4f mm\n"
+      "least_squares held-out RMS %.4f mm (reference fit 0.525 mm)\n",
+      train_stats.count, train_stats.rms * 1e3, heldout.count, heldout.rms * 1e3, heldout.mean * 1e3, heldout.max * 1e3,
+      ls_heldout.rms * 1e3);
   EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
   EXPECT_EQ(report.fixed_parameters, ls.fixed_parameters);
   EXPECT_NEAR(report.final_rms, ls.final_rms, 1e-6 * ls.final_rms);

@@ -111,8 +111,8 @@ TEST(CeresErrorModel, ResidualBlockDerivativesMatchCeresGradientChecker) {
     ceres::GradientChecker::ProbeResults results;
     EXPECT_TRUE(checker.Probe(parameters.data(), 1e-6, &results)) << "row " << row << ": " << results.error_log;
   }
-  EXPECT_EQ(checked, (std::set<std::string>{"geometry", "ratios", "marker:A", "marker:B", "base", "session:1",
-                                            "session:2"}));
+  EXPECT_EQ(checked,
+            (std::set<std::string>{"geometry", "ratios", "marker:A", "marker:B", "base", "session:1", "session:2"}));
 }
 
 // ceres::Covariance of the same residual blocks is (J^T W J)^-1; the shared helper's is sigma^2 times it.

@@ -113,7 +113,7 @@ TEST(ErrorModelEstimators, AgreeWithEachOtherWithinTheirStandardDeviations) {
   const auto expected = ByName(reference);
   int compared = 0;
   for (const auto& name : kErrorModelEstimators) {
-    if (name == "least_squares" || !Estimators().IsAvailable(name)) continue;
+    if (name == "least_squares") continue;
     EstimationReport report;
     RunEstimator(name, c.nominal, c.data, &report, FixtureOptions(name));
     for (const auto& p : report.parameters) {

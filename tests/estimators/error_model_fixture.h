@@ -91,10 +91,7 @@ inline Robot RunEstimator(const std::string& name, const Robot& nominal, const D
 
 class ErrorModelEstimatorTest : public ::testing::TestWithParam<std::string> {
  protected:
-  void SetUp() override {
-    if (!Estimators().IsRegistered(GetParam())) GTEST_SKIP() << GetParam() << " is not registered";
-    if (!Estimators().IsAvailable(GetParam())) GTEST_SKIP() << GetParam() << " is not available";
-  }
+  void SetUp() override { ASSERT_TRUE(Estimators().IsRegistered(GetParam())) << GetParam() << " is not registered"; }
   Robot Run(const Dataset& data, const Robot& nominal, EstimationReport* report) const {
     return RunEstimator(GetParam(), nominal, data, report, FixtureOptions(GetParam()));
   }

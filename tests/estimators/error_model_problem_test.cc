@@ -134,9 +134,9 @@ TEST(ErrorModelProblem, LeftJacobianInverseIsTheDerivativeOfTheLog) {
     const Eigen::Vector3d axis = Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
     const Eigen::Vector3d phi = angle * axis;
     const Eigen::Matrix3d E = RotationExp(phi);
-    const Eigen::MatrixXd numeric = CentralDifference(
-        [&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return RotationLog(RotationExp(d) * E); },
-        Eigen::VectorXd::Zero(3), 1e-6);
+    const Eigen::MatrixXd numeric =
+        CentralDifference([&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return RotationLog(RotationExp(d) * E); },
+                          Eigen::VectorXd::Zero(3), 1e-6);
     EXPECT_LT((LeftJacobianInverseSO3(phi) - numeric).cwiseAbs().maxCoeff(), 1e-8) << angle;
   }
 }
@@ -358,10 +358,10 @@ TEST(Identifiability, SeedArmHoldsTheFirstRowAndTheLastOffsetAgainstTheTool) {
   EXPECT_EQ(prep.identifiability.unidentifiable_names, expected);
   // Each names what it is redundant with.
   const auto& reasons = prep.identifiability.reasons;
-  EXPECT_NE(reasons[2].find("base_yaw"), std::string::npos) << reasons[2];   // theta_1
-  EXPECT_NE(reasons[3].find("base_z"), std::string::npos) << reasons[3];     // d_1
-  EXPECT_NE(reasons[4].find("tool_x"), std::string::npos) << reasons[4];     // theta_6
-  EXPECT_NE(reasons[5].find("tool_z"), std::string::npos) << reasons[5];     // d_6
+  EXPECT_NE(reasons[2].find("base_yaw"), std::string::npos) << reasons[2];  // theta_1
+  EXPECT_NE(reasons[3].find("base_z"), std::string::npos) << reasons[3];    // d_1
+  EXPECT_NE(reasons[4].find("tool_x"), std::string::npos) << reasons[4];    // theta_6
+  EXPECT_NE(reasons[5].find("tool_z"), std::string::npos) << reasons[5];    // d_6
   // 24 joint + 6 base + 3 tool positions + 6 ratios, minus the six above.
   EXPECT_EQ(prep.problem->num_parameters(), 33);
   EXPECT_GT(prep.identifiability.condition_number, 1.0);
@@ -384,7 +384,7 @@ joints:
 limits: [[-165, 165], [-110, 110], [-110, 70], [-160, 160], [-120, 120], [-180, 180]]
 tool: {xyz: [30, 20, 60], rpy: [0, 0, 0]}
 )",
-                                     "irb120");
+                                   "irb120");
   SimulatorOptions so;
   so.protocol = "random";
   so.poses = 60;
@@ -407,8 +407,7 @@ TEST(Identifiability, ObservabilityIndicesMatchADirectSvd) {
   const Eigen::MatrixXd Jc = J * problem.CharacteristicScales().asDiagonal();
   const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(Jc).singularValues();
   const int L = static_cast<int>(s.size()), m = problem.num_rows();
-  const IdentifiabilityAnalysis a =
-      AnalyzeIdentifiability(problem, AccumulateNormalEquations(problem, x).JtJ, m, 1e-6);
+  const IdentifiabilityAnalysis a = AnalyzeIdentifiability(problem, AccumulateNormalEquations(problem, x).JtJ, m, 1e-6);
   ASSERT_EQ(a.rank, L);
   const double o1 = std::pow(s.prod(), 1.0 / L) / std::sqrt(static_cast<double>(m));
   EXPECT_NEAR(a.observability.o1, o1, 1e-9 * o1);

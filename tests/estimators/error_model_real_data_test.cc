@@ -1,5 +1,5 @@
 // Every error-model estimator (least_squares, ceres, nlopt, ipopt) on real measurements, started from the
-// example robot file with default options (issue 11, "estimators that start anywhere"): bases, tool and
+// example robot file with default options ("estimators that start anywhere"): bases, tool and
 // reflectors are placed in closed form and the bounds centred there, so all four reach the same minimum.
 // Skipped when ../shared/data is absent.
 //   irb120_faro: even rows fit, odd rows scored, reflector 1; reference fit 0.525 mm held-out (data README).
@@ -23,7 +23,8 @@ class ErrorModelRealDataTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
   Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+                                  "no ../shared/data/irb120_faro");
   Dataset train, test;
   SplitEvenOdd(all, &train, &test);
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
@@ -41,7 +42,8 @@ TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
 // started at the flange, 124 mm from where it is.
 TEST_P(ErrorModelRealDataTest, Irb120FaroWithAHuberLossFromTheExampleRobotFile) {
   Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+                                  "no ../shared/data/irb120_faro");
   Dataset train, test;
   SplitEvenOdd(all, &train, &test);
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
@@ -74,7 +76,8 @@ double RmsWithTestPointFitted(const Robot& controller, const Robot& identified, 
 
 TEST_P(ErrorModelRealDataTest, Irb120Wu2015FromTheExampleRobotFile) {
   Irb120Wu2015 wu;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu), "no ../shared/data/irb120_wu2015");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu),
+                                  "no ../shared/data/irb120_wu2015");
   Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
   for (const std::string id : {"p1", "p2", "p3"}) nominal.markers[id] = Eigen::Vector3d::Zero();
   Robot identified;
@@ -82,9 +85,10 @@ TEST_P(ErrorModelRealDataTest, Irb120Wu2015FromTheExampleRobotFile) {
   const double test1_p1 = EvaluatePredictions(nominal, identified, wu.test1).position_stats.rms;
   const double test1 = RmsWithTestPointFitted(nominal, identified, wu.test1);
   const double test2 = RmsWithTestPointFitted(nominal, identified, wu.test2);
-  std::printf("%s\ntest set 1: %.4f mm with the test point fitted, %.4f mm as calibration point 1; test set 2: %.4f mm "
-              "(reference 0.277 / 0.285 mm)\n",
-              report.BriefReport().c_str(), test1 * 1e3, test1_p1 * 1e3, test2 * 1e3);
+  std::printf(
+      "%s\ntest set 1: %.4f mm with the test point fitted, %.4f mm as calibration point 1; test set 2: %.4f mm "
+      "(reference 0.277 / 0.285 mm)\n",
+      report.BriefReport().c_str(), test1 * 1e3, test1_p1 * 1e3, test2 * 1e3);
   EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
   EXPECT_EQ(report.details.value("parameters_at_bounds", 0), 0);
   EXPECT_LE(report.final_rms, 0.2456e-3);

@@ -42,7 +42,8 @@ inline bool LoadIrb120FaroReflectors(const std::string& folder, const std::vecto
   if (!std::ifstream(tables.joints).good()) return false;
   tables.sequence = folder + "/measured_joints.txt";
   for (int smr : smrs) {
-    tables.positions.emplace_back("SMR" + std::to_string(smr), folder + "/processed_SMR_" + std::to_string(smr) + ".txt");
+    tables.positions.emplace_back("SMR" + std::to_string(smr),
+                                  folder + "/processed_SMR_" + std::to_string(smr) + ".txt");
   }
   *data = ReadPoseTables(tables, 6);
   data->source = folder;

@@ -82,14 +82,14 @@ inline Dataset Wu2015Rows(const std::vector<std::vector<double>>& joints,
 inline bool LoadIrb120Wu2015(const std::string& folder, Irb120Wu2015* out) {
   const auto cali_q = ReadCsvTable(folder + "/CaliJointAngles.csv", 6);
   if (cali_q.empty()) return false;
-  out->calibration = detail::Wu2015Rows(cali_q, ReadCsvTable(folder + "/CaliPosition.csv", 3), 3,
-                                        {"p1", "p2", "p3"}, folder + "/CaliPosition.csv");
-  out->test1 = detail::Wu2015Rows(ReadCsvTable(folder + "/TestJointAngles.csv", 6),
-                                  ReadCsvTable(folder + "/TestPosition.csv", 3), 1, {"p1"},
-                                  folder + "/TestPosition.csv");
-  out->test2 = detail::Wu2015Rows(ReadCsvTable(folder + "/TestJointAngles2.csv", 6),
-                                  ReadCsvTable(folder + "/TestPosition2.csv", 3), 1, {"p1"},
-                                  folder + "/TestPosition2.csv");
+  out->calibration = detail::Wu2015Rows(cali_q, ReadCsvTable(folder + "/CaliPosition.csv", 3), 3, {"p1", "p2", "p3"},
+                                        folder + "/CaliPosition.csv");
+  out->test1 =
+      detail::Wu2015Rows(ReadCsvTable(folder + "/TestJointAngles.csv", 6),
+                         ReadCsvTable(folder + "/TestPosition.csv", 3), 1, {"p1"}, folder + "/TestPosition.csv");
+  out->test2 =
+      detail::Wu2015Rows(ReadCsvTable(folder + "/TestJointAngles2.csv", 6),
+                         ReadCsvTable(folder + "/TestPosition2.csv", 3), 1, {"p1"}, folder + "/TestPosition2.csv");
   return true;
 }
 

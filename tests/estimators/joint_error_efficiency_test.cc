@@ -1,4 +1,4 @@
-// Statistical efficiency of the joint error coefficients (issue 11), as least_squares_efficiency_test.cc
+// Statistical efficiency of the joint error coefficients, as least_squares_efficiency_test.cc
 // checks it for geometry: the same 120 poses measured 150 times with fresh noise; for every identifiable
 // coefficient the RMS error over the trials divided by the reported standard deviation must be close to 1
 // (mean within [0.95, 1.05]; each within [0.75, 1.25], a 3.5-sigma band for 150 trials).

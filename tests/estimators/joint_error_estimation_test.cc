@@ -1,4 +1,4 @@
-// Joint-level errors in the error model (issue 11): the analytic Jacobian with every joint error type
+// Joint-level errors in the error model: the analytic Jacobian with every joint error type
 // against central differences, and exact recovery of a truth that has them from noise-free data by all
 // four error-model estimators (efficiency: joint_error_efficiency_test.cc).
 #include <algorithm>
@@ -62,7 +62,9 @@ TEST(JointErrorModel, JacobianMatchesCentralDifferencesForEveryType) {
       Measurement& m = c.data.rows[i];
       if (i % 3 == 0) m.marker = "A";
       if (i % 4 == 1) m.session = 1;
-      if (i % 2 == 0) m.orientation = Eigen::Quaterniond(PoseFromXyzRpy(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.2, i)).linear());
+      if (i % 2 == 0)
+        m.orientation =
+            Eigen::Quaterniond(PoseFromXyzRpy(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.2, i)).linear());
       if (!encoders) m.encoders.clear();
     }
     start.session_bases[1] = PoseFromXyzRpy(Eigen::Vector3d(1, 2, 0.5), Eigen::Vector3d(0.1, 0.2, 0.3));

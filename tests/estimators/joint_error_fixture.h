@@ -23,7 +23,7 @@ inline void AddJointErrors(Robot* robot) {
     t.orders = std::move(orders);
     return t;
   };
-  robot->joint_errors.terms = {term(T::kGravity, 1), term(T::kGravity, 2),  term(T::kHarmonic, 0, {1, 2}),
+  robot->joint_errors.terms = {term(T::kGravity, 1),       term(T::kGravity, 2),  term(T::kHarmonic, 0, {1, 2}),
                                term(T::kHarmonic, 3, {1}), term(T::kBacklash, 0), term(T::kBacklash, 2)};
   for (int j = 0; j < 6; ++j) robot->joint_errors.terms.push_back(term(T::kApproach, j));
   robot->joint_errors.Bind(robot->model());
@@ -68,8 +68,10 @@ inline JointErrorCase MakeCase(int poses, uint64_t seed) {
   const auto names = c.truth.joint_errors.CoefficientNames();
   Eigen::VectorXd coefficients = c.truth.joint_errors.Coefficients();
   for (size_t k = 0; k < names.size(); ++k) {
-    if (free_names.count(names[k])) c.identifiable.push_back(names[k]);
-    else coefficients[static_cast<Eigen::Index>(k)] = 0.0;
+    if (free_names.count(names[k]))
+      c.identifiable.push_back(names[k]);
+    else
+      coefficients[static_cast<Eigen::Index>(k)] = 0.0;
   }
   c.truth.joint_errors.SetCoefficients(coefficients);
   c.data = Simulate(c.nominal, c.truth, so);

@@ -1,4 +1,4 @@
-// Joint-level errors on the real ABB IRB 120 of ../shared/data/irb120_faro (issue 11): all 982 processed
+// Joint-level errors on the real ABB IRB 120 of ../shared/data/irb120_faro: all 982 processed
 // rows in measurement order (each reached from its predecessor in the unfiltered readings), even rows fit,
 // odd rows scored. Geometry alone reaches 0.523 mm held-out;
 // the issue's goals: + gravity of joints 2 and 3 <= 0.47 mm, + the approach term of every joint
@@ -61,7 +61,8 @@ Fit FitAndScore(const std::string& method, const Robot& nominal, const Dataset& 
 class JointErrorsRealData : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all_), "no ../shared/data/irb120_faro");
+    KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all_),
+                                    "no ../shared/data/irb120_faro");
     SplitEvenOdd(all_, &train_, &test_);
   }
   Dataset all_, train_, test_;
@@ -77,8 +78,8 @@ TEST_P(JointErrorsRealData, GravityOfJoints2And3) {
 
 TEST_P(JointErrorsRealData, GravityAndTheApproachOfEveryJoint) {
   const Fit f = FitAndScore(GetParam(), Irb120WithJointErrors(true), train_, test_);
-  std::printf("%s, geometry + gravity 2, 3 + approach 1-6: held-out RMS %.4f mm (goal <= 0.30)\n",
-              GetParam().c_str(), f.heldout_rms * 1e3);
+  std::printf("%s, geometry + gravity 2, 3 + approach 1-6: held-out RMS %.4f mm (goal <= 0.30)\n", GetParam().c_str(),
+              f.heldout_rms * 1e3);
   for (const auto& p : f.report.parameters) {
     if (p.name.rfind("approach", 0) == 0) {
       std::printf("  %s = %.3g s (%.2f mdeg per rad/s) +- %.2g\n", p.name.c_str(), p.value, p.value * 180 / M_PI * 1e3,
@@ -113,7 +114,8 @@ std::vector<double> ThreeReflectorHeldOut(const Dataset& all, Robot nominal, con
   for (int smr = 1; smr <= 3; ++smr) {
     Dataset one = test;
     one.rows.clear();
-    for (const auto& m : test.rows) if (m.marker == "SMR" + std::to_string(smr)) one.rows.push_back(m);
+    for (const auto& m : test.rows)
+      if (m.marker == "SMR" + std::to_string(smr)) one.rows.push_back(m);
     out.push_back(EvaluatePredictions(nominal, identified, one).position_stats.rms);
     std::printf("three reflectors jointly, %s, SMR%d: held-out RMS %.4f mm (goal <= 0.32)\n", label.c_str(), smr,
                 out.back() * 1e3);
@@ -142,7 +144,8 @@ TEST(JointErrorsRealData3, ThreeReflectorsFittedJointly) {
 // instead of the processed row before them brings reflector 1 from 0.275 to 0.265 mm.
 TEST(JointErrorsRealData, ThePreviousPosesOfTheUnfilteredSequence) {
   Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+                                  "no ../shared/data/irb120_faro");
   int from_sequence = 0;
   for (const auto& m : all.rows) from_sequence += m.from_q.has_value();
   EXPECT_EQ(from_sequence, 16);
@@ -154,8 +157,10 @@ TEST(JointErrorsRealData, ThePreviousPosesOfTheUnfilteredSequence) {
     SplitEvenOdd(k == 0 ? all : processed_order, &train, &test);
     rms[k] = FitAndScore("least_squares", Irb120WithJointErrors(true), train, test).heldout_rms;
   }
-  std::printf("gravity 2, 3 + approach 1-6, reflector 1: previous poses from the sequence %.4f mm, from the "
-              "processed rows %.4f mm\n", rms[0] * 1e3, rms[1] * 1e3);
+  std::printf(
+      "gravity 2, 3 + approach 1-6, reflector 1: previous poses from the sequence %.4f mm, from the "
+      "processed rows %.4f mm\n",
+      rms[0] * 1e3, rms[1] * 1e3);
   EXPECT_LT(rms[0], rms[1] - 0.005e-3);
 }
 

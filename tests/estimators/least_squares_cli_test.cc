@@ -19,9 +19,9 @@ const std::string kTruth = SourcePath("examples/robots/seed_identified.yaml");
 
 std::string Simulate(const TempDir& tmp, const std::string& name, int poses, int seed) {
   const std::string path = tmp.path(name);
-  const CommandResult r = RunKincal("simulate --nominal " + kNominal + " --truth " + kTruth +
-                                    " --protocol random --poses " + std::to_string(poses) + " --noise 10um --seed " +
-                                    std::to_string(seed) + " --out " + path);
+  const CommandResult r =
+      RunKincal("simulate --nominal " + kNominal + " --truth " + kTruth + " --protocol random --poses " +
+                std::to_string(poses) + " --noise 10um --seed " + std::to_string(seed) + " --out " + path);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return path;
 }
@@ -30,9 +30,9 @@ TEST(LeastSquaresCli, ValidatesOnAHeldOutFile) {
   TempDir tmp;
   const std::string train = Simulate(tmp, "train.csv", 80, 1);
   const std::string test = Simulate(tmp, "test.csv", 100, 2);
-  const CommandResult r = RunKincal("identify --nominal " + kNominal + " --data " + train +
-                                    " --method least_squares --validate " + test + " --out " + tmp.path("id.yaml") +
-                                    " --report " + tmp.path("report.json"));
+  const CommandResult r =
+      RunKincal("identify --nominal " + kNominal + " --data " + train + " --method least_squares --validate " + test +
+                " --out " + tmp.path("id.yaml") + " --report " + tmp.path("report.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("least_squares: converged"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("held-out (100 rows)"), std::string::npos) << r.out;
@@ -44,7 +44,8 @@ TEST(LeastSquaresCli, ValidatesOnAHeldOutFile) {
   int with_stddev = 0;
   for (const auto& p : stage["parameters"]) with_stddev += p["free"].get<bool>() && p["stddev"].is_number();
   EXPECT_EQ(with_stddev, 33);
-  for (const char* key : {"O1", "O2", "O3", "O4", "O5"}) EXPECT_GT(stage["details"]["observability"][key].get<double>(), 0.0);
+  for (const char* key : {"O1", "O2", "O3", "O4", "O5"})
+    EXPECT_GT(stage["details"]["observability"][key].get<double>(), 0.0);
   const Robot identified = ReadRobotFile(tmp.path("id.yaml"));
   EXPECT_NEAR(identified.drives->ratio[2], 4815.60, 1.0);
 }
@@ -89,9 +90,9 @@ std::string ReplaceField(const std::string& csv, const std::string& column, cons
 
 void ExpectRejected(const std::string& data, const std::string& reason) {
   TempDir tmp;
-  const CommandResult r = RunKincal("identify --nominal " + kNominal + " --data " + data +
-                                    " --method least_squares --out " + tmp.path("id.yaml") + " --report " +
-                                    tmp.path("report.json"));
+  const CommandResult r =
+      RunKincal("identify --nominal " + kNominal + " --data " + data + " --method least_squares --out " +
+                tmp.path("id.yaml") + " --report " + tmp.path("report.json"));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -1,4 +1,4 @@
-// Statistical efficiency of least_squares by Monte Carlo (issue 4): the same 40 poses measured 200 times
+// Statistical efficiency of least_squares by Monte Carlo: the same 40 poses measured 200 times
 // with fresh Gaussian noise. For each identifiable parameter, the RMS error over the trials divided by
 // the predicted standard deviation (the reported one, sigma^2 (J^T J)^-1: the Cramer-Rao bound) must be
 // close to 1: their mean within [0.95, 1.05], none outside [0.8, 1.2]. With 200 trials one ratio
@@ -46,8 +46,7 @@ TEST(LeastSquaresEfficiency, RmsErrorMatchesTheCramerRaoBound) {
   }
   ASSERT_EQ(order.size(), 33u);
   double sum_ratio = 0.0;
-  std::printf("%-12s %14s %14s %14s %8s %8s\n", "parameter", "truth", "RMS error", "predicted sd", "bias/sd",
-              "RMS/sd");
+  std::printf("%-12s %14s %14s %14s %8s %8s\n", "parameter", "truth", "RMS error", "predicted sd", "bias/sd", "RMS/sd");
   for (const auto& name : order) {
     const Tally& t = tally[name];
     ASSERT_EQ(t.count, kTrials) << name;

@@ -33,8 +33,8 @@ TEST(LeastSquaresRealData, Irb120FaroHeldOutErrorMatchesTheReferenceFit) {
               report.details["observability"]["O3"].get<double>());
   std::printf("train (%d rows): RMS %.4f mm, mean %.4f mm, max %.4f mm\n", train_stats.count, train_stats.rms * 1e3,
               train_stats.mean * 1e3, train_stats.max * 1e3);
-  std::printf("held-out (%d rows): RMS %.4f mm, mean %.4f mm, max %.4f mm (reference 0.525 mm RMS)\n",
-              heldout.count, heldout.rms * 1e3, heldout.mean * 1e3, heldout.max * 1e3);
+  std::printf("held-out (%d rows): RMS %.4f mm, mean %.4f mm, max %.4f mm (reference 0.525 mm RMS)\n", heldout.count,
+              heldout.rms * 1e3, heldout.mean * 1e3, heldout.max * 1e3);
   EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
   // Joints 2 and 3 are parallel: d_2 and d_3 move the arm alike, so one of them is held.
   const auto& held = report.fixed_parameters;

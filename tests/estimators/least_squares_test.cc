@@ -137,10 +137,12 @@ TEST(LeastSquares, SeedSweepDataHeldOutError) {
     rms.push_back(heldout.rms);
     std::string fixed;
     for (const auto& f : report.fixed_parameters) fixed += " " + f;
-    std::printf("sweep seed %d: %d rows, %s\n  held (not identifiable):%s; condition number %.4g\n"
-                "  held-out on 300 random poses: mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal robot in the true frame: RMS %.3f mm)\n",
-                static_cast<int>(seed), static_cast<int>(c.data.rows.size()), report.BriefReport().c_str(), fixed.c_str(),
-                report.condition_number, heldout.mean * 1e3, heldout.rms * 1e3, heldout.max * 1e3, nominal.rms * 1e3);
+    std::printf(
+        "sweep seed %d: %d rows, %s\n  held (not identifiable):%s; condition number %.4g\n"
+        "  held-out on 300 random poses: mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal robot in the true frame: RMS "
+        "%.3f mm)\n",
+        static_cast<int>(seed), static_cast<int>(c.data.rows.size()), report.BriefReport().c_str(), fixed.c_str(),
+        report.condition_number, heldout.mean * 1e3, heldout.rms * 1e3, heldout.max * 1e3, nominal.rms * 1e3);
     EXPECT_LT(heldout.rms, 0.5 * nominal.rms);
   }
   double mean = 0.0;

@@ -62,16 +62,19 @@ Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test
 
 TEST(ModelSelectionRealData, Ur10SeriesD) {
   Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_D/measurements_iso_cubes.csv"), &all),
-                                  "no ../shared/data/ur10_ipa2021");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(
+      LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_D/measurements_iso_cubes.csv"), &all),
+      "no ../shared/data/ur10_ipa2021");
   SplitEvenOdd(all, &train, &test);
   const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
   const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
   double best = geometry.rms;
   for (int groups : {1, 2, 3, 4, 22}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
-  std::printf("series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
-              "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
-              best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
+  std::printf(
+      "series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+      "(geometry %.3f); coverage %.3f\n",
+      selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3, best * 1e3, selected.max * 1e3,
+      geometry.max * 1e3, selected.coverage);
   EXPECT_LE(selected.rms, 1.05 * best);
   EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
   EXPECT_LE(selected.max, 1.5 * geometry.max);
@@ -110,10 +113,11 @@ TEST(ModelSelectionRealData, Ur10CampaignBToC) {
 
 TEST(ModelSelectionRealData, Irb120FaroKeepsTheRichModel) {
   Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+                                  "no ../shared/data/irb120_faro");
   SplitEvenOdd(all, &train, &test);
   Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
-  rich.markers.clear();  // reflector 1 is the tool origin
+  rich.markers.clear();                      // reflector 1 is the tool origin
   for (int joint = 0; joint < 6; ++joint) {  // the richest file: + harmonic 1 and 2 and backlash on every joint
     JointErrorTerm harmonic;
     harmonic.type = JointErrorTerm::Type::kHarmonic;
@@ -141,7 +145,8 @@ TEST(ModelSelectionRealData, Irb120FaroKeepsTheRichModel) {
 // 0.15 mm of it; test set 2's point is 1.2 mm away and needs fitting, so it does not check (1)).
 TEST(PredictionUncertaintyRealData, Irb120Wu2015Coverage) {
   Irb120Wu2015 wu;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu), "no ../shared/data/irb120_wu2015");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu),
+                                  "no ../shared/data/irb120_wu2015");
   Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
   for (const std::string id : {"p1", "p2", "p3"}) nominal.markers[id] = Eigen::Vector3d::Zero();
   const Scored s = FitAndScore(nominal, wu.calibration, wu.test1, false);

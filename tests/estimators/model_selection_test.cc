@@ -44,7 +44,8 @@ TEST(BlockedFolds, ContiguousBalancedBlocksWithinEverySession) {
   const std::vector<int> fold = BlockedFolds(data, 5);
   for (int session : {0, 2}) {
     std::vector<int> f;
-    for (size_t i = 0; i < data.rows.size(); ++i) if (data.rows[i].session == session) f.push_back(fold[i]);
+    for (size_t i = 0; i < data.rows.size(); ++i)
+      if (data.rows[i].session == session) f.push_back(fold[i]);
     for (size_t i = 1; i < f.size(); ++i) EXPECT_GE(f[i], f[i - 1]);  // contiguous, in order
     for (int k = 0; k < 5; ++k) {
       const auto n = std::count(f.begin(), f.end(), k);

@@ -36,8 +36,8 @@ TEST_P(SelectableAlgorithmTest, ReachesTheLeastSquaresMinimum) {
     worst = std::max(worst, std::abs(p.value - e.value) / e.stddev);
   }
   EXPECT_LT(worst, 1e-3);
-  std::printf("%s %s: %s\n  largest difference to least_squares %.3g standard deviations\n", name.c_str(),
-              yaml.c_str(), report.BriefReport().c_str(), worst);
+  std::printf("%s %s: %s\n  largest difference to least_squares %.3g standard deviations\n", name.c_str(), yaml.c_str(),
+              report.BriefReport().c_str(), worst);
 }
 
 INSTANTIATE_TEST_SUITE_P(Selectable, SelectableAlgorithmTest,

@@ -22,11 +22,12 @@ inline bool LoadUr10Series(const std::string& path, Dataset* data) {
   std::getline(in, line);
   std::vector<std::string> header;
   for (std::stringstream ss(line); std::getline(ss, line, ';');) header.push_back(line);
-  const std::vector<std::string> want = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
-                                         "wrist_2_joint", "wrist_3_joint", "measurement_x", "measurement_y",
-                                         "measurement_z"};
+  const std::vector<std::string> want = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                         "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint",
+                                         "measurement_x",      "measurement_y",       "measurement_z"};
   std::vector<int> column;
-  for (const auto& w : want) column.push_back(static_cast<int>(std::find(header.begin(), header.end(), w) - header.begin()));
+  for (const auto& w : want)
+    column.push_back(static_cast<int>(std::find(header.begin(), header.end(), w) - header.begin()));
   data->dof = 6;
   while (std::getline(in, line)) {
     std::vector<double> f;
@@ -60,7 +61,8 @@ inline Robot Ur10Rich(int groups) {
     all.push_back(t);
   };
   for (int j = 1; j <= 4; ++j) add(T::kGravity, j);
-  for (T type : {T::kHarmonic, T::kBacklash, T::kApproach}) for (int j = 0; j < 6; ++j) add(type, j);
+  for (T type : {T::kHarmonic, T::kBacklash, T::kApproach})
+    for (int j = 0; j < 6; ++j) add(type, j);
   for (int g = 0; g < groups && g < static_cast<int>(all.size()); ++g) robot.joint_errors.terms.push_back(all[g]);
   robot.joint_errors.Bind(robot.model());
   return robot;

@@ -167,11 +167,26 @@ TEST(Units, FormatExactIsTheShortestRoundTrip) {
 
 TEST(Units, FormatInUnitGivesTheFilesDecimalBack) {
   // The decimals people write: reading them and writing them back gives the same text.
-  const char* decimals[] = {"0", "1", "-2.11", "247.5", "291.53", "0.06", "89.98", "-90.09", "4815.6", "1e-05",
-                            "0.1", "0.3", "1000.1", "123456.789", "-0.0203", "7.00000000000001", "33.3333333333333"};
+  const char* decimals[] = {"0",
+                            "1",
+                            "-2.11",
+                            "247.5",
+                            "291.53",
+                            "0.06",
+                            "89.98",
+                            "-90.09",
+                            "4815.6",
+                            "1e-05",
+                            "0.1",
+                            "0.3",
+                            "1000.1",
+                            "123456.789",
+                            "-0.0203",
+                            "7.00000000000001",
+                            "33.3333333333333"};
   for (const char* unit_name : {"mm", "m", "cm", "um", "deg", "rad"}) {
     const Unit unit = (std::string(unit_name) == "deg" || std::string(unit_name) == "rad") ? AngleUnit(unit_name)
-                                                                                          : LengthUnit(unit_name);
+                                                                                           : LengthUnit(unit_name);
     for (const char* text : decimals) {
       double v = 0.0;
       ASSERT_TRUE(ParseDouble(text, &v));
@@ -188,7 +203,8 @@ TEST(Units, FormatInUnitIsExactForEveryValueThatCameFromAFile) {
     const Unit unit = std::string(unit_name) == "deg" ? AngleUnit(unit_name) : LengthUnit(unit_name);
     for (int i = 0; i < 20000; ++i) {
       char text[40];
-      std::snprintf(text, sizeof(text), "%.17g", std::ldexp(rng.Uniform(-1, 1), static_cast<int>(rng.Uniform(-30, 30))));
+      std::snprintf(text, sizeof(text), "%.17g",
+                    std::ldexp(rng.Uniform(-1, 1), static_cast<int>(rng.Uniform(-30, 30))));
       double v = 0.0;
       ASSERT_TRUE(ParseDouble(text, &v));
       const double si = v * unit.to_si;

@@ -103,8 +103,7 @@ TEST(DriveModel, ValidateNamesTheProblem) {
   EXPECT_NE(why(Drives({100, 0}, {2048, 2048}, {0, 0}), 2).find("ratio of joint 2"), std::string::npos);
   EXPECT_NE(why(Drives({100, NAN}, {2048, 2048}, {0, 0}), 2).find("ratio of joint 2"), std::string::npos);
   EXPECT_NE(why(Drives({100, 100}, {-2048, 2048}, {0, 0}), 2).find("counts_per_rev of joint 1"), std::string::npos);
-  EXPECT_NE(why(Drives({100, 100}, {2048, 2048}, {INFINITY, 0}), 2).find("encoder_zero of joint 1"),
-            std::string::npos);
+  EXPECT_NE(why(Drives({100, 100}, {2048, 2048}, {INFINITY, 0}), 2).find("encoder_zero of joint 1"), std::string::npos);
 }
 
 }  // namespace

@@ -38,8 +38,8 @@ JointErrorTerm Term(T type, int joint, std::vector<int> orders = {}) {
 // Every type, on several joints.
 JointErrors AllTypes(const KinematicModel& model) {
   JointErrors e;
-  e.terms = {Term(T::kGravity, 1), Term(T::kGravity, 2), Term(T::kHarmonic, 0, {1, 2}), Term(T::kHarmonic, 3, {3}),
-             Term(T::kBacklash, 0), Term(T::kBacklash, 4), Term(T::kApproach, 0), Term(T::kApproach, 5)};
+  e.terms = {Term(T::kGravity, 1),  Term(T::kGravity, 2),  Term(T::kHarmonic, 0, {1, 2}), Term(T::kHarmonic, 3, {3}),
+             Term(T::kBacklash, 0), Term(T::kBacklash, 4), Term(T::kApproach, 0),         Term(T::kApproach, 5)};
   e.Bind(model);
   return e;
 }
@@ -138,10 +138,10 @@ TEST(JointErrors, BindRefusesWhatItCannotModel) {
     e.terms = std::move(terms);
     e.Bind(model);
   };
-  EXPECT_THROW(bind({Term(T::kGravity, 1)}), std::invalid_argument);            // prismatic
-  EXPECT_THROW(bind({Term(T::kHarmonic, 0)}), std::invalid_argument);           // no orders
-  EXPECT_THROW(bind({Term(T::kHarmonic, 0, {1, 1})}), std::invalid_argument);   // repeated order
-  EXPECT_THROW(bind({Term(T::kBacklash, 2)}), std::invalid_argument);           // no joint 3
+  EXPECT_THROW(bind({Term(T::kGravity, 1)}), std::invalid_argument);           // prismatic
+  EXPECT_THROW(bind({Term(T::kHarmonic, 0)}), std::invalid_argument);          // no orders
+  EXPECT_THROW(bind({Term(T::kHarmonic, 0, {1, 1})}), std::invalid_argument);  // repeated order
+  EXPECT_THROW(bind({Term(T::kBacklash, 2)}), std::invalid_argument);          // no joint 3
   EXPECT_THROW(bind({Term(T::kBacklash, 0), Term(T::kBacklash, 0)}), std::invalid_argument);
   EXPECT_NO_THROW(bind({Term(T::kBacklash, 1), Term(T::kApproach, 1)}));
 }
@@ -154,7 +154,9 @@ TEST(JointErrors, GravityRegressorsGiveTheTorqueOfPointMasses) {
   Rng rng(5);
   std::vector<double> mass(7);
   std::vector<Eigen::Vector3d> com(7);  // in frame j
-  for (int j = 1; j <= 6; ++j) mass[j] = rng.Uniform(1, 20), com[j] = Eigen::Vector3d(rng.Uniform(-0.2, 0.2), rng.Uniform(-0.2, 0.2), rng.Uniform(-0.2, 0.2));
+  for (int j = 1; j <= 6; ++j)
+    mass[j] = rng.Uniform(1, 20),
+    com[j] = Eigen::Vector3d(rng.Uniform(-0.2, 0.2), rng.Uniform(-0.2, 0.2), rng.Uniform(-0.2, 0.2));
   const Eigen::Vector3d g_base(0.05, 0.1, -1.0);
   for (int i = 0; i < 6; ++i) {
     JointErrors e;

@@ -109,7 +109,8 @@ TEST_P(ModelConformance, FramePosesEndAtForwardKinematics) {
   ASSERT_EQ(static_cast<int>(frames.size()), model->dof() + 2);
   EXPECT_TRUE(frames.back().isApprox(model->ForwardKinematics(q), 1e-13));
   EXPECT_TRUE(frames.front().isApprox(model->base(), 1e-13));
-  for (const auto& T : frames) EXPECT_NEAR((T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm(), 0, 1e-13);
+  for (const auto& T : frames)
+    EXPECT_NEAR((T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm(), 0, 1e-13);
 }
 
 TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
@@ -185,25 +186,29 @@ INSTANTIATE_TEST_SUITE_P(
         ModelCase{"dh6", [] { return Randomized(std::make_unique<DhModel>(6), 2); }},
         ModelCase{"hayati6", [] { return Randomized(std::make_unique<HayatiModel>(6), 7); }},
         ModelCase{"poe6", [] { return Randomized(std::make_unique<PoeModel>(6), 8); }},
-        ModelCase{"poe_rpr", [] {
+        ModelCase{"poe_rpr",
+                  [] {
                     return Randomized(std::make_unique<PoeModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       9);
                   }},
         ModelCase{"urdf6", [] { return Randomized(std::make_unique<UrdfModel>(6), 10); }},
-        ModelCase{"urdf_rpr", [] {
+        ModelCase{"urdf_rpr",
+                  [] {
                     return Randomized(std::make_unique<UrdfModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       12);
                   }},
         ModelCase{"mdh3", [] { return Randomized(std::make_unique<MdhModel>(3), 3); }},
         ModelCase{"mdh7", [] { return Randomized(std::make_unique<MdhModel>(7), 4); }},
-        ModelCase{"mdh_rrp", [] {
+        ModelCase{"mdh_rrp",
+                  [] {
                     return Randomized(std::make_unique<MdhModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kRevolute, JointType::kPrismatic}),
                                       5);
                   }},
-        ModelCase{"dh_rpr", [] {
+        ModelCase{"dh_rpr",
+                  [] {
                     return Randomized(std::make_unique<DhModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       6);

@@ -93,9 +93,9 @@ MdhModel RtbPanda() {
 }
 
 TEST(PeerValues, RoboticsToolboxPythonPandaFkine) {
-  const Eigen::Matrix4d expected = Rows({-0.8583, 0.1178, 0.4994, 0.1372,  //
-                                         0.1980, 0.9739, 0.1106, 0.3246,   //
-                                         -0.4734, 0.1938, -0.8593, 0.4436, //
+  const Eigen::Matrix4d expected = Rows({-0.8583, 0.1178, 0.4994, 0.1372,   //
+                                         0.1980, 0.9739, 0.1106, 0.3246,    //
+                                         -0.4734, 0.1938, -0.8593, 0.4436,  //
                                          0, 0, 0, 1});
   const Eigen::Matrix4d T = RtbPanda().ForwardKinematics(Q({1, 2, 3, 4, 5, 6, 7})).matrix();
   EXPECT_LT((T - expected).cwiseAbs().maxCoeff(), 1e-4) << T;
@@ -106,12 +106,14 @@ TEST(PeerValues, RoboticsToolboxPythonPandaFkineAll) {
   const std::vector<Eigen::Matrix4d> expected = {
       Rows({0.5403, -0.8415, 0, 0, 0.8415, 0.5403, 0, 0, 0, 0, 1, 0.333, 0, 0, 0, 1}),
       Rows({-0.2248, -0.4913, -0.8415, 0, -0.3502, -0.7651, 0.5403, 0, -0.9093, 0.4161, 0, 0.333, 0, 0, 0, 1}),
-      Rows({0.1038, 0.8648, 0.4913, 0.1552, 0.4229, -0.4855, 0.7651, 0.2418, 0.9002, 0.1283, -0.4161, 0.2015, 0, 0, 0, 1}),
-      Rows({-0.4397, -0.2425, -0.8648, 0.1638, -0.8555, -0.1801, 0.4855, 0.2767, -0.2735, 0.9533, -0.1283, 0.2758, 0, 0, 0,
+      Rows({0.1038, 0.8648, 0.4913, 0.1552, 0.4229, -0.4855, 0.7651, 0.2418, 0.9002, 0.1283, -0.4161, 0.2015, 0, 0, 0,
             1}),
-      Rows({-0.9540, -0.1763, -0.2425, 0.107, 0.2229, -0.9581, -0.1801, 0.2781, -0.2006, -0.2258, 0.9533, 0.6644, 0, 0, 0,
+      Rows({-0.4397, -0.2425, -0.8648, 0.1638, -0.8555, -0.1801, 0.4855, 0.2767, -0.2735, 0.9533, -0.1283, 0.2758, 0, 0,
+            0, 1}),
+      Rows({-0.9540, -0.1763, -0.2425, 0.107, 0.2229, -0.9581, -0.1801, 0.2781, -0.2006, -0.2258, 0.9533, 0.6644, 0, 0,
+            0, 1}),
+      Rows({-0.8482, -0.4994, 0.1763, 0.107, 0.2643, -0.1106, 0.9581, 0.2781, -0.4590, 0.8593, 0.2258, 0.6644, 0, 0, 0,
             1}),
-      Rows({-0.8482, -0.4994, 0.1763, 0.107, 0.2643, -0.1106, 0.9581, 0.2781, -0.4590, 0.8593, 0.2258, 0.6644, 0, 0, 0, 1}),
       Rows({-0.5236, 0.6902, 0.4994, 0.08575, 0.8287, 0.5487, 0.1106, 0.3132, -0.1977, 0.4718, -0.8593, 0.5321, 0, 0, 0,
             1})};
   const std::vector<Eigen::Isometry3d> frames = RtbPanda().FramePoses(Q({1, 2, 3, 4, 5, 6, 7}));
@@ -156,35 +158,35 @@ class RtbMatlabPuma : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(RtbMatlabPuma, Jacob0) {
-  const Matrix6Xd at_qz = Rows6({0.1501, -0.6137, -0.2504, 0, 0, 0,       //
-                                 -0.1191, -0.0000, -0.0000, 0, 0, 0,      //
-                                 -0.0000, -0.1191, -0.3524, 0, 0, 0,      //
-                                 0, -0.0000, -0.0000, -0.8415, -0.0000, -0.1411,  //
-                                 0.0000, -1.0000, -1.0000, -0.0000, -1.0000, -0.0000,  //
-                                 1.0000, 0.0000, 0.0000, 0.5403, 0.0000, -0.9900});
-  const Matrix6Xd at_qn = Rows6({0.1501, 0.0144, 0.3197, 0, 0, 0,         //
-                                 0.5963, -0.0000, -0.0000, 0, 0, 0,       //
-                                 -0.0000, 0.5963, 0.2910, 0, 0, 0,        //
-                                 0.0000, -0.0000, -0.0000, 0.7071, -0.5950, 0.7702,  //
-                                 -0.0000, -1.0000, -1.0000, 0, -0.5403, -0.5950,     //
-                                 1.0000, 0.0000, 0.0000, -0.7071, -0.5950, -0.2298});
+  const Matrix6Xd at_qz = Rows6({0.1501,  -0.6137, -0.2504, 0,       0,       0,        //
+                                 -0.1191, -0.0000, -0.0000, 0,       0,       0,        //
+                                 -0.0000, -0.1191, -0.3524, 0,       0,       0,        //
+                                 0,       -0.0000, -0.0000, -0.8415, -0.0000, -0.1411,  //
+                                 0.0000,  -1.0000, -1.0000, -0.0000, -1.0000, -0.0000,  //
+                                 1.0000,  0.0000,  0.0000,  0.5403,  0.0000,  -0.9900});
+  const Matrix6Xd at_qn = Rows6({0.1501,  0.0144,  0.3197,  0,       0,       0,        //
+                                 0.5963,  -0.0000, -0.0000, 0,       0,       0,        //
+                                 -0.0000, 0.5963,  0.2910,  0,       0,       0,        //
+                                 0.0000,  -0.0000, -0.0000, 0.7071,  -0.5950, 0.7702,   //
+                                 -0.0000, -1.0000, -1.0000, 0,       -0.5403, -0.5950,  //
+                                 1.0000,  0.0000,  0.0000,  -0.7071, -0.5950, -0.2298});
   EXPECT_LT((model().JointJacobian(kQz) - at_qz).cwiseAbs().maxCoeff(), 1e-4) << model().JointJacobian(kQz);
   EXPECT_LT((model().JointJacobian(kQn) - at_qn).cwiseAbs().maxCoeff(), 1e-4) << model().JointJacobian(kQn);
 }
 
 TEST_P(RtbMatlabPuma, Jacobn) {
-  const Matrix6Xd at_qz = Rows6({-0.1485, 0.5908, 0.1982, 0, 0, 0,    //
-                                 -0.1191, 0.0000, 0.0000, 0, 0, 0,    //
-                                 -0.0212, 0.2045, 0.3842, 0, 0, 0,    //
-                                 0.1411, 0, 0, 0.9093, 0, 0,          //
+  const Matrix6Xd at_qz = Rows6({-0.1485, 0.5908,  0.1982,  0,       0,       0,  //
+                                 -0.1191, 0.0000,  0.0000,  0,       0,       0,  //
+                                 -0.0212, 0.2045,  0.3842,  0,       0,       0,  //
+                                 0.1411,  0,       0,       0.9093,  0,       0,  //
                                  -0.0000, -1.0000, -1.0000, -0.0000, -1.0000, 0,  //
-                                 -0.9900, 0.0000, 0.0000, -0.4161, 0.0000, 1.0000});
-  const Matrix6Xd at_qn = Rows6({0.3893, -0.4559, -0.1506, 0, 0, 0,   //
-                                 0.4115, 0.3633, 0.3633, 0, 0, 0,     //
-                                 -0.2392, -0.1260, 0.1793, 0, 0, 0,   //
-                                 -0.7702, -0.5950, -0.5950, 0.7071, 0, 0,  //
-                                 0.5950, -0.5403, -0.5403, -0.0000, -1.0000, 0,  //
-                                 -0.2298, 0.5950, 0.5950, 0.7071, 0.0000, 1.0000});
+                                 -0.9900, 0.0000,  0.0000,  -0.4161, 0.0000,  1.0000});
+  const Matrix6Xd at_qn = Rows6({0.3893,  -0.4559, -0.1506, 0,       0,       0,  //
+                                 0.4115,  0.3633,  0.3633,  0,       0,       0,  //
+                                 -0.2392, -0.1260, 0.1793,  0,       0,       0,  //
+                                 -0.7702, -0.5950, -0.5950, 0.7071,  0,       0,  //
+                                 0.5950,  -0.5403, -0.5403, -0.0000, -1.0000, 0,  //
+                                 -0.2298, 0.5950,  0.5950,  0.7071,  0.0000,  1.0000});
   EXPECT_LT((InToolFrame(model(), kQz) - at_qz).cwiseAbs().maxCoeff(), 1e-4) << InToolFrame(model(), kQz);
   EXPECT_LT((InToolFrame(model(), kQn) - at_qn).cwiseAbs().maxCoeff(), 1e-4) << InToolFrame(model(), kQn);
 }
@@ -217,8 +219,9 @@ TEST(ExampleRobots, PumaInDhAndModifiedDhIsOneArm) {
   for (int trial = 0; trial < 100; ++trial) {
     Eigen::VectorXd q(6);
     for (int j = 0; j < 6; ++j) q[j] = rng.Uniform(-M_PI, M_PI);
-    EXPECT_LT((dh.model().ForwardKinematics(q).matrix() - mdh.model().ForwardKinematics(q).matrix()).cwiseAbs().maxCoeff(),
-              1e-15);
+    EXPECT_LT(
+        (dh.model().ForwardKinematics(q).matrix() - mdh.model().ForwardKinematics(q).matrix()).cwiseAbs().maxCoeff(),
+        1e-15);
     EXPECT_LT((dh.model().JointJacobian(q) - mdh.model().JointJacobian(q)).cwiseAbs().maxCoeff(), 1e-15);
   }
 }
@@ -246,14 +249,17 @@ TEST(ExampleRobots, ParallelAxesWhereTheMakersHaveThem) {
 
 TEST(ExampleRobots, ZeroConfigurationsAsTheMakersDrawThem) {
   // UR10 at q = 0: arm stretched along -x, tool at x = a2 + a3, y = -(d4 + d6), z = d1 - d5.
-  const Eigen::Vector3d ur10 = LoadExampleRobot("ur10_dh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
+  const Eigen::Vector3d ur10 =
+      LoadExampleRobot("ur10_dh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
   EXPECT_LT((ur10 - Eigen::Vector3d(-0.612 - 0.5723, -0.163941 - 0.0922, 0.1273 - 0.1157)).norm(), 1e-15);
   // IRB 120 at q = 0 (ABB's calibration position): wrist centre at x = 302 mm, z = 290 + 270 + 70 mm;
   // flange 72 mm further along x.
-  const Eigen::Vector3d irb = LoadExampleRobot("irb120_mdh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
+  const Eigen::Vector3d irb =
+      LoadExampleRobot("irb120_mdh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
   EXPECT_LT((irb - Eigen::Vector3d(0.374, 0, 0.630)).norm(), 1e-15);
   // Puma 560 at qz, "L shaped": x = a2 + a3, y = -d3 (the shoulder offset), z = d4.
-  const Eigen::Vector3d puma = LoadExampleRobot("puma560_dh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
+  const Eigen::Vector3d puma =
+      LoadExampleRobot("puma560_dh.yaml").model().ForwardKinematics(Eigen::VectorXd::Zero(6)).translation();
   EXPECT_LT((puma - Eigen::Vector3d(0.4318 + 0.0203, -0.15005, 0.4318)).norm(), 1e-15);
 }
 

@@ -86,8 +86,9 @@ TEST(FilterCommand, WorkObjectAndToolOptions) {
   const Eigen::Isometry3d T_base_wobj = PoseFromXyzRpy({0.3, -0.1, 0.05}, {0.0, 0.0, 0.5});
   const std::vector<Eigen::VectorXd> qs = testing::Configurations(controller, 30, 6);
   testing::WriteText(f.dir.path("w.mod"), testing::RapidModule(controller, qs, 1000, T_base_wobj));
-  const auto r = RunKincal(f.Args(f.dir.path("w.mod"), f.dir.path("w.out.mod")) +
-                           " --work-object \"300 -100 50 28.64788975654116 0 0\" --tool \"10 0 150 0 17.188733853924695 0\"");
+  const auto r =
+      RunKincal(f.Args(f.dir.path("w.mod"), f.dir.path("w.out.mod")) +
+                " --work-object \"300 -100 50 28.64788975654116 0 0\" --tool \"10 0 150 0 17.188733853924695 0\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto format = MakeProgramFormat("rapid");
   const auto before = format->Read(testing::ReadText(f.dir.path("w.mod")), "w.mod");

@@ -22,7 +22,8 @@ inline Robot Identified(const Robot& nominal, uint64_t seed) {
   Eigen::VectorXd p = identified.model().Parameters();
   const auto& info = identified.model().parameter_info();
   for (int i = 0; i < p.size(); ++i) {
-    p[i] += info[i].kind == ParameterInfo::Kind::kLength ? rng.Uniform(-0.5e-3, 0.5e-3) : rng.Uniform(-0.05, 0.05) * M_PI / 180;
+    p[i] += info[i].kind == ParameterInfo::Kind::kLength ? rng.Uniform(-0.5e-3, 0.5e-3)
+                                                         : rng.Uniform(-0.05, 0.05) * M_PI / 180;
   }
   identified.model().SetParameters(p);
   identified.model().SetBase(PoseFromXyzRpy({1.2, 0.9, 0.1}, {0.001, -0.002, M_PI / 2}));
@@ -75,8 +76,8 @@ inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::Vect
         (robot.model().base() * T_base_frame).inverse() * robot.model().ForwardKinematics(qs[i]);
     const Eigen::Quaterniond quat(T.linear());
     const std::vector<int> c = rules.Of(qs[i]);
-    std::string r = "[[" + Fmt("%.3f", T.translation().x() * 1e3) + "," + Fmt("%.3f", T.translation().y() * 1e3) +
-                    "," + Fmt("%.3f", T.translation().z() * 1e3) + "],[" + Fmt("%.8f", quat.w()) + "," +
+    std::string r = "[[" + Fmt("%.3f", T.translation().x() * 1e3) + "," + Fmt("%.3f", T.translation().y() * 1e3) + "," +
+                    Fmt("%.3f", T.translation().z() * 1e3) + "],[" + Fmt("%.8f", quat.w()) + "," +
                     Fmt("%.8f", quat.x()) + "," + Fmt("%.8f", quat.y()) + "," + Fmt("%.8f", quat.z()) + "],[" +
                     std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "," +
                     std::to_string(c[3]) + "],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]";
@@ -87,7 +88,8 @@ inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::Vect
       body += "    MoveJ p" + name + ", v1000, z50, tool0\\WObj:=wobj0;\n";
     }
   }
-  return "%%%\n  VERSION:1\n  LANGUAGE:ENGLISH\n%%%\nMODULE FilterMe\n  ! robtargets [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],[eax]]\n"
+  return "%%%\n  VERSION:1\n  LANGUAGE:ENGLISH\n%%%\nMODULE FilterMe\n  ! robtargets "
+         "[[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],[eax]]\n"
          "  PERS tooldata gripper:=[TRUE,[[0,0,100],[1,0,0,0]],[1,[0,0,50],[1,0,0,0],0,0,0]];\n"
          "  CONST string note := \"[[1,2,3],[1,0,0,0],[0,0,0,0],[0,0,0,0,0,0]] in a string\";\n" +
          decl + "  PROC main()\n" + body + "  ENDPROC\nENDMODULE\n";
@@ -95,24 +97,27 @@ inline std::string RapidModule(const Robot& robot, const std::vector<Eigen::Vect
 
 inline std::string KrlDataList(const Robot& robot, const std::vector<Eigen::VectorXd>& qs, int joint_every) {
   const ConfigurationRules rules(ConfigurationConvention::kKuka, robot);
-  std::string out = "&ACCESS RVP\n&REL 1\nDEFDAT  FILTERME PUBLIC\n;FOLD EXTERNAL DECLARATIONS;%{PE}\n"
-                    "DECL BASIS_SUGG_T LAST_BASIS={POINT1[] \"P0\",CP_PARAMS[] \"CPDAT0\"}\n";
+  std::string out =
+      "&ACCESS RVP\n&REL 1\nDEFDAT  FILTERME PUBLIC\n;FOLD EXTERNAL DECLARATIONS;%{PE}\n"
+      "DECL BASIS_SUGG_T LAST_BASIS={POINT1[] \"P0\",CP_PARAMS[] \"CPDAT0\"}\n";
   for (size_t i = 0; i < qs.size(); ++i) {
     const std::string name = std::to_string(i);
     if (i % joint_every == 0) {
       out += std::string(i % 2 ? "DECL E6AXIS XJ" : "DECL AXIS XJ") + name + "={";
-      for (int k = 0; k < 6; ++k) out += (k ? ",A" : "A") + std::to_string(k + 1) + " " + Fmt("%.5f", qs[i][k] * 180 / M_PI);
+      for (int k = 0; k < 6; ++k)
+        out += (k ? ",A" : "A") + std::to_string(k + 1) + " " + Fmt("%.5f", qs[i][k] * 180 / M_PI);
       out += i % 2 ? ",E1 0.0,E2 0.0,E3 0.0,E4 0.0,E5 0.0,E6 0.0}\n" : "}\n";
       continue;
     }
     const Eigen::Isometry3d T = robot.model().base().inverse() * robot.model().ForwardKinematics(qs[i]);
     const Eigen::Matrix3d& R = T.linear();
-    const double a = std::atan2(R(1, 0), R(0, 0)) * 180 / M_PI, b = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0))) * 180 / M_PI,
+    const double a = std::atan2(R(1, 0), R(0, 0)) * 180 / M_PI,
+                 b = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0))) * 180 / M_PI,
                  c = std::atan2(R(2, 1), R(2, 2)) * 180 / M_PI;
     const std::vector<int> st = rules.Of(qs[i]);
     std::string pose = "X " + Fmt("%.3f", T.translation().x() * 1e3) + ",Y " + Fmt("%.3f", T.translation().y() * 1e3) +
-                       ",Z " + Fmt("%.3f", T.translation().z() * 1e3) + ",A " + Fmt("%.4f", a) + ",B " + Fmt("%.4f", b) +
-                       ",C " + Fmt("%.4f", c);
+                       ",Z " + Fmt("%.3f", T.translation().z() * 1e3) + ",A " + Fmt("%.4f", a) + ",B " +
+                       Fmt("%.4f", b) + ",C " + Fmt("%.4f", c);
     std::string bits_t;
     for (int k = 5; k >= 0; --k) bits_t += ((st[1] >> k) & 1) ? '1' : '0';
     if (i % 7 == 3) {
@@ -129,8 +134,10 @@ inline std::string KrlDataList(const Robot& robot, const std::vector<Eigen::Vect
 }
 
 inline std::string UrScript(const Robot& robot, const std::vector<Eigen::VectorXd>& qs, int joint_every) {
-  std::string out = "def filter_me():\n  # targets: p[x, y, z, rx, ry, rz] and joint lists\n  set_tcp(p[0.0, 0.0, 0.0, 0.0, 0.0, 0.0])\n"
-                    "  set_payload(1.0, [0.0, 0.0, 0.05])\n";
+  std::string out =
+      "def filter_me():\n  # targets: p[x, y, z, rx, ry, rz] and joint lists\n  set_tcp(p[0.0, 0.0, 0.0, 0.0, 0.0, "
+      "0.0])\n"
+      "  set_payload(1.0, [0.0, 0.0, 0.05])\n";
   for (size_t i = 0; i < qs.size(); ++i) {
     if (i % joint_every == 0) {
       out += "  movej([";

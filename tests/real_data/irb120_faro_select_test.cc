@@ -16,7 +16,8 @@ namespace {
 
 TEST(Irb120FaroSelect, Reflector1FromTheRichestFile) {
   Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no ../shared/data/irb120_faro");
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+                                  "no ../shared/data/irb120_faro");
   SplitEvenOdd(all, &train, &test);
   Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
   rich.markers.clear();  // reflector 1 is the tool origin

@@ -77,10 +77,14 @@ TEST(Ur10Ipa2021Dataset, CampaignBToCReregistered) {
   int train_b = 0, train_c = 0, test_c = 0, other = 0;
   for (size_t i = 0; i < bc.rows.size(); ++i) {
     const Measurement& m = bc.rows[i];
-    if (i < 1495 && m.session == 1 && m.split == Split::kTrain) ++train_b;
-    else if (i >= 1495 && i < 1495 + 20 && m.session == 2 && m.split == Split::kTrain) ++train_c;
-    else if (i >= 1495 + 20 && m.session == 2 && m.split == Split::kTest) ++test_c;
-    else ++other;
+    if (i < 1495 && m.session == 1 && m.split == Split::kTrain)
+      ++train_b;
+    else if (i >= 1495 && i < 1495 + 20 && m.session == 2 && m.split == Split::kTrain)
+      ++train_c;
+    else if (i >= 1495 + 20 && m.session == 2 && m.split == Split::kTest)
+      ++test_c;
+    else
+      ++other;
   }
   EXPECT_EQ(train_b, 1495);
   EXPECT_EQ(train_c, 20);
@@ -120,7 +124,8 @@ TEST(Ur10Ipa2021Dataset, BadInputIsOneLineAndExitTwo) {
   text.insert(at, "x");
   WriteText(dir.path("bad.csv"), text);
   EXPECT_EQ(RunUr10Converter("'" + dir.path("bad.csv") + "'", dir, &err), 2);
-  const std::string where = "bad.csv:2:" + std::to_string(at - line_start + 1) + ": expected a number for shoulder_pan_joint";
+  const std::string where =
+      "bad.csv:2:" + std::to_string(at - line_start + 1) + ": expected a number for shoulder_pan_joint";
   EXPECT_NE(err.find(where), std::string::npos) << err;
   EXPECT_EQ(RunUr10Converter("'" + Ur10Series(kUr10D) + "' --reregister 20", dir, &err), 2);
   EXPECT_NE(err.find("--reregister: expected at least two series"), std::string::npos) << err;

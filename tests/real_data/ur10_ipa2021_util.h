@@ -28,7 +28,8 @@ inline bool HaveUr10Data() { return std::ifstream(Ur10Series(kUr10D)).good(); }
 // Runs scripts/ur10_ipa2021_dataset with `arguments` (shell-quoted); stderr into *err.
 inline int RunUr10Converter(const std::string& arguments, const TempDir& dir, std::string* err) {
   const std::string err_path = dir.path("converter.err");
-  const std::string command = "'" + SourcePath("scripts/ur10_ipa2021_dataset") + "' " + arguments + " 2>'" + err_path + "'";
+  const std::string command =
+      "'" + SourcePath("scripts/ur10_ipa2021_dataset") + "' " + arguments + " 2>'" + err_path + "'";
   const int status = std::system(command.c_str());
   if (err) *err = ReadText(err_path);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

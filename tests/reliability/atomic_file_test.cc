@@ -2,6 +2,8 @@
 // after the rename; a failure leaves the previous file unchanged and no temporary file behind. (That the
 // data reaches the disk before the rename, fsync, cannot be observed without cutting the power; the
 // test checks what can be: the content, the folder, the error paths.)
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -11,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "framework/atomic_file.h"
+#include "framework/error.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {
@@ -68,7 +71,7 @@ TEST(AtomicFile, AFailedRenameLeavesNoTemporaryAndSaysWhichFile) {
   try {
     WriteFileAtomically(dir.path("out.csv"), "content\n");
     FAIL() << "expected an error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const IoError& e) {
     EXPECT_EQ(std::string(e.what()).rfind(dir.path("out.csv"), 0), 0u) << e.what();
   }
   EXPECT_EQ(EntriesIn(dir.path("")), 1);
@@ -95,8 +98,10 @@ TEST(AtomicFile, AFullDiskIsReportedAndLeavesNoTemporary) {
   try {
     WriteFileAtomically(dir.path("out.csv"), std::string(1 << 20, 'z'));
     FAIL() << "expected an error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("write failed"), std::string::npos) << e.what();
+  } catch (const IoError& e) {
+    // The file, what failed and the system's reason (ENOSPC).
+    EXPECT_EQ(std::string(e.what()).rfind(dir.path("out.csv") + ": write failed: ", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::strerror(ENOSPC)), std::string::npos) << e.what();
   }
   EXPECT_EQ(ReadText(dir.path("out.csv")), "previous\n");
   EXPECT_EQ(EntriesIn(dir.path("")), 1);

@@ -1,7 +1,7 @@
 // The promise about bad input, from the command line (docs/RELIABILITY.md): whatever a file holds, kincal
 // exits with status 0 or 2, and 2 comes with one line on stderr that names the file and, where there is
-// one, the line and column. Each case here was an escape (exit status 1, or a message without the file)
-// before issue 10, or is a shape of damage files really have: truncated, binary, wrong encoding.
+// one, the line and column. Each case here is a way to escape that promise (exit status 1, or a message
+// without the file) or a shape of damage files really have: truncated, binary, wrong encoding.
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -31,18 +31,19 @@ void ExpectBadInput(const std::string& arguments, const std::string& file, const
   const auto r = RunKincal(arguments);
   EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.err;
   EXPECT_EQ(LineCount(r.err), 1) << r.err;
-  EXPECT_EQ(r.err.rfind("kincal: " + file + where, 0), 0u) << "expected 'kincal: " << file << where << "...', got: " << r.err;
+  EXPECT_EQ(r.err.rfind("kincal: " + file + where, 0), 0u)
+      << "expected 'kincal: " << file << where << "...', got: " << r.err;
 }
 
 const char* kSixJointHeader = "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm\n";
 
 TEST(BadInput, AColumnIndexBeyondIntIsAnUnknownColumnAtItsPlace) {
-  // Issue 10's report: this header ended kincal with exit status 1 and "kincal: error: stoi".
+  // This header once ended kincal with exit status 1 and "kincal: error: stoi".
   TempDir dir;
   const std::string data = dir.path("data.csv");
   WriteText(data, "q1_deg,q99999999999999999999_deg,x_mm,y_mm,z_mm\n1,2,3,4,5\n");
-  ExpectBadInput("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
-                     " --method none --out " + dir.path("out.yaml"),
+  ExpectBadInput("identify --nominal " + Example("seed_nominal.yaml") + " --data " + data + " --method none --out " +
+                     dir.path("out.yaml"),
                  data, ":1:8: unknown column 'q99999999999999999999_deg'");
   const std::string targets = dir.path("targets.csv");
   WriteText(targets, "x_mm,y_mm,z_mm,q99999999999999999999_deg\n1,2,3,4\n");
@@ -61,15 +62,16 @@ TEST(BadInput, DamagedDatasetsEndInStatusTwoNamingFileLineAndColumn) {
     std::string text, where;
   };
   const std::vector<Case> cases = {
-      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n0,0,0,0,0,0,1,2\n", ":3:1:"},          // truncated row
-      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1e400,2,3\n", ":2:13:"},                    // overflows double
-      {std::string(kSixJointHeader) + "0,0,0,0,0,0,nan,2,3\n", ":2:13:"},                      // NaN
-      {std::string(kSixJointHeader) + "0,0,0,0,0,0,\xff\xfe,2,3\n", ":2:13:"},                 // not UTF-8
-      {std::string("\x00\x01\x02", 3) + "binary", ":1:1:"},                                  // binary
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n0,0,0,0,0,0,1,2\n", ":3:1:"},  // truncated row
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,1e400,2,3\n", ":2:13:"},              // overflows double
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,nan,2,3\n", ":2:13:"},                // NaN
+      {std::string(kSixJointHeader) + "0,0,0,0,0,0,\xff\xfe,2,3\n", ":2:13:"},           // not UTF-8
+      {std::string("\x00\x01\x02", 3) + "binary", ":1:1:"},                              // binary
       {"q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,sweep\n0,0,0,0,0,0,1,2,3,99999999999\n", ":2:"},
       {"q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,enc1,enc2,enc3,enc4,enc5,enc6\n"
-       "0,0,0,0,0,0,1,2,3,1e300,0,0,0,0,0\n", ":2:"},
-      {"", ":1:1:"},                                                                          // empty
+       "0,0,0,0,0,0,1,2,3,1e300,0,0,0,0,0\n",
+       ":2:"},
+      {"", ":1:1:"},  // empty
   };
   for (const Case& c : cases) {
     WriteText(data, c.text);
@@ -82,8 +84,8 @@ TEST(BadInput, DamagedRobotFilesEndInStatusTwoNamingFileAndLine) {
   const std::string robot = dir.path("robot.yaml");
   const std::vector<std::string> cases = {
       "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints:\n  - {alpha: 1e400, a: 0, theta: 0, d: 0}\n",
-      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: [\n",         // truncated YAML
-      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: &a [*a]\n",    // alias loop
+      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: [\n",        // truncated YAML
+      "name: r\nconvention: mdh\nunits: {length: mm, angle: deg}\njoints: &a [*a]\n",  // alias loop
       std::string("\xef\xbb\xbf\0\0binary", 11),
   };
   for (const std::string& text : cases) {
@@ -115,8 +117,8 @@ std::string Urdf(const std::vector<std::string>& links, const std::vector<std::s
 }
 std::string Joint(const std::string& name, const std::string& type, const std::string& parent, const std::string& child,
                   const std::string& inner = "<axis xyz=\"0 0 1\"/>") {
-  const std::string limit = type == "revolute" || type == "prismatic"
-                                ? "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>" : "";
+  const std::string limit =
+      type == "revolute" || type == "prismatic" ? "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>" : "";
   return "<joint name=\"" + name + "\" type=\"" + type + "\"><parent link=\"" + parent + "\"/><child link=\"" + child +
          "\"/>" + inner + limit + "</joint>";
 }
@@ -134,15 +136,24 @@ TEST(BadInput, DamagedUrdfsEndInStatusTwoNamingTheFile) {
   };
   const std::vector<Case> cases = {
       // A link that is its own parent (joint on line 3), and a loop a -> b -> a apart from the root (line 4).
-      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("aa", "revolute", "a", "a")}), "a", "", ":4:3: the joints above link 'a' form a loop"},
-      {Urdf({"base_link", "a", "b", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("ab", "revolute", "a", "b"), Joint("ba", "fixed", "b", "a")}), "a", "", ":5:3: the joints above link 'a' form a loop"},
-      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "a"), Joint("j2", "revolute", "c", "a")}), "a", "", ":4:3: link 'a' has a second parent joint"},
-      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<origin xyz=\"0 1e308 0\"/><axis xyz=\"0 0 1\"/>")}), "a", "", ": joint 'j' has an origin coordinate 1e+308"},
-      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"1e200 1e200 0\"/>")}), "a", "", ": joint 'j' has an axis of length inf"},
-      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"0 0 0\"/>")}), "a", "", ": joint 'j' has an axis of length 0"},
+      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("aa", "revolute", "a", "a")}),
+       "a", "", ":4:3: the joints above link 'a' form a loop"},
+      {Urdf({"base_link", "a", "b", "c"}, {Joint("j", "revolute", "base_link", "c"), Joint("ab", "revolute", "a", "b"),
+                                           Joint("ba", "fixed", "b", "a")}),
+       "a", "", ":5:3: the joints above link 'a' form a loop"},
+      {Urdf({"base_link", "a", "c"}, {Joint("j", "revolute", "base_link", "a"), Joint("j2", "revolute", "c", "a")}),
+       "a", "", ":4:3: link 'a' has a second parent joint"},
+      {Urdf({"base_link", "a"},
+            {Joint("j", "revolute", "base_link", "a", "<origin xyz=\"0 1e308 0\"/><axis xyz=\"0 0 1\"/>")}),
+       "a", "", ": joint 'j' has an origin coordinate 1e+308"},
+      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"1e200 1e200 0\"/>")}), "a", "",
+       ": joint 'j' has an axis of length inf"},
+      {Urdf({"base_link", "a"}, {Joint("j", "revolute", "base_link", "a", "<axis xyz=\"0 0 0\"/>")}), "a", "",
+       ": joint 'j' has an axis of length 0"},
       // Two perpendicular slides have no POE rows (a prismatic axis across its parent's z).
-      {Urdf({"base_link", "a", "b"}, {Joint("x", "prismatic", "base_link", "a", "<axis xyz=\"1 0 0\"/>"), Joint("z", "prismatic", "a", "b")}), "b",
-       " --convention poe", ": the chain from 'base_link' to 'b' cannot be written in the poe convention"},
+      {Urdf({"base_link", "a", "b"},
+            {Joint("x", "prismatic", "base_link", "a", "<axis xyz=\"1 0 0\"/>"), Joint("z", "prismatic", "a", "b")}),
+       "b", " --convention poe", ": the chain from 'base_link' to 'b' cannot be written in the poe convention"},
   };
   for (const Case& c : cases) {
     WriteText(urdf, c.text);
@@ -155,11 +166,12 @@ TEST(BadInput, AGantryOfPerpendicularSlidesIsWrittenAsUrdf) {
   // prismatic axis across its parent's z, and refused this robot (without naming the file).
   TempDir dir;
   const std::string robot = dir.path("gantry.yaml");
-  WriteText(robot, "name: gantry\nconvention: dh\nunits: {length: mm, angle: deg}\njoints:\n"
-                   "  - {theta: 0, d: 100, a: 0, alpha: 90, type: prismatic}\n"
-                   "  - {theta: 0, d: 50, a: 20, alpha: 0, type: prismatic}\n"
-                   "  - {theta: 0, d: 10, a: 0, alpha: 0}\n"
-                   "limits: [[0, 500], [0, 300], [-90, 90]]\n");
+  WriteText(robot,
+            "name: gantry\nconvention: dh\nunits: {length: mm, angle: deg}\njoints:\n"
+            "  - {theta: 0, d: 100, a: 0, alpha: 90, type: prismatic}\n"
+            "  - {theta: 0, d: 50, a: 20, alpha: 0, type: prismatic}\n"
+            "  - {theta: 0, d: 10, a: 0, alpha: 0}\n"
+            "limits: [[0, 500], [0, 300], [-90, 90]]\n");
   const auto r = RunKincal("convert " + robot + " --to urdf --out " + dir.path("gantry.urdf"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto back = RunKincal("import " + dir.path("gantry.urdf") + " --base world --tip tool0 --convention dh --out " +
@@ -189,8 +201,9 @@ TEST(BadInput, AUrdfWithElementsBeforeTheRobotIsWrittenBack) {
   // the document's first element and ended in map::at (status 1).
   TempDir dir;
   const std::string urdf = dir.path("robot.urdf");
-  WriteText(urdf, "<note/>\n" + Urdf({"base_link", "a", "b"}, {Joint("j", "revolute", "base_link", "a"),
-                                                                 Joint("t", "fixed", "a", "b", "<origin xyz=\"0.1 0 0\"/>")}));
+  WriteText(urdf,
+            "<note/>\n" + Urdf({"base_link", "a", "b"}, {Joint("j", "revolute", "base_link", "a"),
+                                                         Joint("t", "fixed", "a", "b", "<origin xyz=\"0.1 0 0\"/>")}));
   const auto imported = RunKincal("import " + urdf + " --base base_link --tip b --out " + dir.path("robot.yaml"));
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   const auto written = RunKincal("convert " + dir.path("robot.yaml") + " --to urdf --out " + dir.path("back.urdf"));
@@ -215,6 +228,26 @@ TEST(BadInput, InvalidOptionsNameTheOptionsFile) {
                      Example("seed_identified.yaml") + " --targets " + dir.path("targets.csv") +
                      " --method jacobian --options " + options + " --out " + dir.path("out.csv"),
                  options);
+}
+
+// A value out of its range is located like a value of the wrong type: the options file, the value's line
+// and column (the options' table checks the requirement as it reads, framework/options.h).
+TEST(BadInput, AnOptionOutOfRangeNamesItsLineAndColumn) {
+  TempDir dir;
+  const std::string options = dir.path("options.yaml");
+  const std::string data = dir.path("data.csv");
+  WriteText(data, std::string(kSixJointHeader) + "0,0,0,0,0,0,1,2,3\n");
+  WriteText(options, "loss: huber\nmax_iterations: -3\n");
+  const std::string identify = "identify --nominal " + Example("seed_nominal.yaml") + " --data " + data +
+                               " --method least_squares --options " + options + " --out " + dir.path("out.yaml");
+  ExpectBadInput(identify, options, ": line 2, column 17: ");
+  EXPECT_NE(RunKincal(identify).err.find("'max_iterations': must be >= 0, got '-3'"), std::string::npos);
+  WriteText(options, "length_scale: 0.5m\nrandom_starts: 100001\n");
+  WriteText(dir.path("targets.csv"), "x_mm,y_mm,z_mm\n400,0,500\n");
+  ExpectBadInput("compensate --nominal " + Example("seed_nominal.yaml") + " --identified " +
+                     Example("seed_identified.yaml") + " --targets " + dir.path("targets.csv") +
+                     " --method jacobian --options " + options + " --out " + dir.path("out.csv"),
+                 options, ": line 2, column 16: ");
 }
 
 TEST(BadInput, AMissingOrUnreadableFileIsStatusTwo) {

@@ -1,4 +1,4 @@
-// Datasets of 10^6 and 10^7 rows (issue 10): the first is read, predicted and written; the second, on a
+// Datasets of 10^6 and 10^7 rows: the first is read, predicted and written; the second, on a
 // machine with less memory than it needs, is refused with a message that says so (exit status 2)
 // instead of being ended by the kernel's out-of-memory killer. The machine is emulated with
 // KINCAL_MEMORY_LIMIT_MB so that the test means the same everywhere. Labelled slow.
@@ -43,7 +43,7 @@ TEST(BigData, AMillionRowsAreReadPredictedAndWritten) {
   long lines = 0;
   std::string line;
   while (std::getline(in, line)) lines += line.empty() || line[0] != '#';  // '#' lines: provenance comments
-  EXPECT_EQ(lines, 1000001);  // the header and one row per dataset row
+  EXPECT_EQ(lines, 1000001);                                               // the header and one row per dataset row
 }
 
 TEST(BigData, TenMillionRowsBeyondTheMemoryAreRefusedWithAMessage) {

@@ -1,4 +1,4 @@
-// The joint level of robots (issue 11): robot-file keys velocity_limits, coupling, gravity and
+// The joint level of robots: robot-file keys velocity_limits, coupling, gravity and
 // joint_errors (round trips, messages), the measurement sequence of datasets (previous poses, from_q
 // columns, subsets), readings -> actual angles and back, and the simulator with a truth that has them.
 #include <cstring>
@@ -96,13 +96,17 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, BadJointLevel,
     ::testing::Values(
         BadCase{"unknown_type", "type: backlash", "type: wobble", "bad.yaml:22:22: unknown joint error type 'wobble'"},
-        BadCase{"joint_out_of_range", "{joint: 5, type: approach}", "{joint: 7, type: approach}", "expected a joint 1..6"},
+        BadCase{"joint_out_of_range", "{joint: 5, type: approach}", "{joint: 7, type: approach}",
+                "expected a joint 1..6"},
         BadCase{"unknown_coefficient", "sign: 0.003", "sine: 0.003", "unknown coefficient 'sine'"},
         BadCase{"left_out_term", "link2_x: 0.012", "link2: 0.012", "unknown coefficient 'link2'"},
-        BadCase{"orders_on_backlash", "type: backlash,", "type: backlash, orders: [1],", "only harmonic terms take 'orders'"},
+        BadCase{"orders_on_backlash", "type: backlash,", "type: backlash, orders: [1],",
+                "only harmonic terms take 'orders'"},
         BadCase{"no_orders", "type: harmonic, orders: [1, 2],", "type: harmonic,", "lists no orders"},
-        BadCase{"velocity_count", "[250, 250, 250, 320, 320, 420]", "[250, 250]", "expected 6 numbers for velocity_limits"},
-        BadCase{"velocity_zero", "[250, 250, 250, 320, 320, 420]", "[250, 250, 0, 320, 320, 420]", "positive velocity limit"},
+        BadCase{"velocity_count", "[250, 250, 250, 320, 320, 420]", "[250, 250]",
+                "expected 6 numbers for velocity_limits"},
+        BadCase{"velocity_zero", "[250, 250, 250, 320, 320, 420]", "[250, 250, 0, 320, 320, 420]",
+                "positive velocity limit"},
         BadCase{"coupling_rows", "[0, 1, 1, 0, 0, 0], ", "", "expected 'coupling' to list 6 rows"},
         BadCase{"coupling_singular", "[0, 1, 1, 0, 0, 0]", "[0, 1, 0, 0, 0, 0]", "coupling: the matrix is singular"},
         BadCase{"gravity_zero", "gravity: [0.01, 0, -1]", "gravity: [0, 0, 0]", "non-zero gravity"},
@@ -159,7 +163,8 @@ TEST(MeasurementSequence, FromColumnsAreAllOrNothingPerRow) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("f.csv:2:"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(ParseDatasetCsv("q1_deg,q2_deg,x_mm,y_mm,z_mm,from_q1_deg\n1,2,0,0,0,3\n", "f.csv"), std::invalid_argument);
+  EXPECT_THROW(ParseDatasetCsv("q1_deg,q2_deg,x_mm,y_mm,z_mm,from_q1_deg\n1,2,0,0,0,3\n", "f.csv"),
+               std::invalid_argument);
 }
 
 TEST(JointReadings, CouplingComesBeforeTheRatios) {

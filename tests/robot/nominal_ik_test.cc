@@ -78,12 +78,11 @@ TEST_P(ClosedForm, EveryBranchRoundTripsThroughForwardKinematics) {
   EXPECT_EQ(max_branches, 8);
 }
 
-INSTANTIATE_TEST_SUITE_P(Arms, ClosedForm,
-                         ::testing::Values(ArmCase{"seed_nominal.yaml", "pieper(3,4,5)"},
-                                           ArmCase{"irb120_mdh.yaml", "pieper(4,5,6)"},
-                                           ArmCase{"puma560_dh.yaml", "pieper(4,5,6)"},
-                                           ArmCase{"ur10_dh.yaml", "parallel(2,3,4)"}),
-                         [](const auto& info) { return std::string(info.param.method).substr(0, 6) + std::to_string(info.index); });
+INSTANTIATE_TEST_SUITE_P(
+    Arms, ClosedForm,
+    ::testing::Values(ArmCase{"seed_nominal.yaml", "pieper(3,4,5)"}, ArmCase{"irb120_mdh.yaml", "pieper(4,5,6)"},
+                      ArmCase{"puma560_dh.yaml", "pieper(4,5,6)"}, ArmCase{"ur10_dh.yaml", "parallel(2,3,4)"}),
+    [](const auto& info) { return std::string(info.param.method).substr(0, 6) + std::to_string(info.index); });
 
 // Every joint a multiple of `step` inside its limits, drawn uniformly from that grid.
 Eigen::VectorXd GridConfiguration(const Robot& robot, double step, Rng* rng) {
@@ -284,7 +283,9 @@ TEST(NominalIk, PosesOnAFoldAreSolvedInClosedForm) {
     const char* file;
     int joint;
     bool unique;
-  } cases[] = {{"puma560_dh.yaml", 1, true}, {"puma560_dh.yaml", 2, true}, {"irb120_mdh.yaml", 2, false},
+  } cases[] = {{"puma560_dh.yaml", 1, true},
+               {"puma560_dh.yaml", 2, true},
+               {"irb120_mdh.yaml", 2, false},
                {"seed_nominal.yaml", 4, false}};
   for (const auto& c : cases) {
     const Robot robot = LoadExampleRobot(c.file);
@@ -493,7 +494,8 @@ TEST(NominalIk, UnreachableAndOutOfLimitsGetTheirStatusAndFiniteJoints) {
   narrow.limits[0] = {-0.1, 0.1};
   Eigen::VectorXd q(6);
   q << 1.0, 0.2, 0.1, 0.3, 0.5, 0.2;
-  const IkSolution o = NominalInverseKinematics(narrow, options).Solve(narrow.model().ForwardKinematics(q), Eigen::VectorXd());
+  const IkSolution o =
+      NominalInverseKinematics(narrow, options).Solve(narrow.model().ForwardKinematics(q), Eigen::VectorXd());
   EXPECT_EQ(o.status, IkStatus::kOutOfLimits) << ToString(o.status);
   EXPECT_TRUE(o.q.allFinite());
 }

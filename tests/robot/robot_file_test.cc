@@ -131,17 +131,18 @@ std::string RandomRobotText(uint64_t seed, const std::string& length, const std:
     return std::string(buffer);
   };
   const auto number = [&](double scale) { return between(-scale, scale); };
-  std::string text = "name: random\nconvention: " + std::string(seed % 2 ? "mdh" : "dh") + "\nunits: {length: " + length +
-                     ", angle: " + angle + "}\njoints:\n";
+  std::string text = "name: random\nconvention: " + std::string(seed % 2 ? "mdh" : "dh") +
+                     "\nunits: {length: " + length + ", angle: " + angle + "}\njoints:\n";
   for (int i = 0; i < 7; ++i) {
     text += "  - {alpha: " + number(180) + ", a: " + number(1000) + ", theta: " + number(180) + ", d: " + number(1000) +
             "}\n";
   }
   text += "limits: [";
-  for (int i = 0; i < 7; ++i) text += std::string(i ? ", " : "") + "[" + between(-200, -1) + ", " + between(1, 200) + "]";
+  for (int i = 0; i < 7; ++i)
+    text += std::string(i ? ", " : "") + "[" + between(-200, -1) + ", " + between(1, 200) + "]";
   text += "]\n";
-  text += "base: {xyz: [" + number(5000) + ", " + number(5000) + ", " + number(5000) + "], rpy: [" + number(180) + ", " +
-          number(90) + ", " + number(180) + "]}\n";
+  text += "base: {xyz: [" + number(5000) + ", " + number(5000) + ", " + number(5000) + "], rpy: [" + number(180) +
+          ", " + number(90) + ", " + number(180) + "]}\n";
   text += "tool: {xyz: [" + number(200) + ", " + number(200) + ", " + number(200) + "], rpy: [" + number(180) + ", " +
           number(90) + ", " + number(180) + "]}\n";
   text += "markers:\n  A: [" + number(100) + ", " + number(100) + ", " + number(100) + "]\n";
@@ -307,8 +308,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"bad_length_unit", 3, "units: {length: furlong, angle: deg}", "robot.yaml:3:8",
                 "unknown length unit 'furlong'"},
         BadCase{"bad_angle_unit", 3, "units: {length: mm, angle: grad}", "robot.yaml:3:8", "unknown angle unit 'grad'"},
-        BadCase{"nan", 6, "  - {alpha: .nan, a: 100, theta: 0, d: 0}", "robot.yaml:6:13", "expected a number for alpha_2"},
-        BadCase{"nan_word", 6, "  - {alpha: 90, a: nan, theta: 0, d: 0}", "robot.yaml:6:20", "expected a number for a_2"},
+        BadCase{"nan", 6, "  - {alpha: .nan, a: 100, theta: 0, d: 0}", "robot.yaml:6:13",
+                "expected a number for alpha_2"},
+        BadCase{"nan_word", 6, "  - {alpha: 90, a: nan, theta: 0, d: 0}", "robot.yaml:6:20",
+                "expected a number for a_2"},
         BadCase{"infinity", 11, "tool: {xyz: [1, 2, .inf], rpy: [0, 0, 0]}", "robot.yaml:11:20",
                 "expected a number for tool.xyz"},
         BadCase{"unknown_convention", 2, "convention: craig", "robot.yaml:2:13", "unknown convention 'craig'"},
@@ -316,7 +319,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "expected type revolute or prismatic"},
         BadCase{"limits_reversed", 10, "limits: [[-90, 90], [45, -45]]", "robot.yaml:10:21", "min < max"},
         BadCase{"zero_ratio", 8, "  ratio: [100, 0]", "robot.yaml:8:3", "ratio of joint 2 must be finite and non-zero"},
-        BadCase{"invalid_yaml", 6, "  - {alpha: 90, a: 100, theta: 0, d: 0", "robot.yaml:7:7", "invalid YAML: end of map flow not found"}),
+        BadCase{"invalid_yaml", 6, "  - {alpha: 90, a: 100, theta: 0, d: 0", "robot.yaml:7:7",
+                "invalid YAML: end of map flow not found"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.label); });
 
 TEST(RobotFile, UnreadableFileNamesThePath) {

@@ -96,9 +96,11 @@ TEST(Simulator, SweepProtocolSweepsJointsNDownToOneAndLeavesEachWhereItEnded) {
     const int swept = 6 - block;  // 6, 5, ..., 1
     EXPECT_EQ(data.rows[r].sweep, swept);
     for (int j = 1; j <= 6; ++j) {
-      double expected = 0.0;                            // not swept yet: still at the start
-      if (j == swept) expected = stop * step;           // being swept
-      else if (j > swept) expected = 19 * step;         // swept before: stays where its sweep ended
+      double expected = 0.0;  // not swept yet: still at the start
+      if (j == swept)
+        expected = stop * step;  // being swept
+      else if (j > swept)
+        expected = 19 * step;  // swept before: stays where its sweep ended
       EXPECT_EQ(data.rows[r].q[j - 1], expected) << "row " << r << ", joint " << j;
     }
   }
@@ -177,8 +179,8 @@ TEST(Simulator, OrientationIsTheTruthsWithoutNoise) {
   for (const Measurement& m : data.rows) {
     ASSERT_TRUE(m.orientation.has_value());
     EXPECT_NEAR(m.orientation->norm(), 1.0, 1e-15);
-    const Eigen::Isometry3d T = truth.model().ForwardKinematics(
-        DriveModel::ActualFromCommanded(*nominal.drives, *truth.drives, m.q));
+    const Eigen::Isometry3d T =
+        truth.model().ForwardKinematics(DriveModel::ActualFromCommanded(*nominal.drives, *truth.drives, m.q));
     EXPECT_LT(RotationAngleBetween(m.orientation->toRotationMatrix(), T.linear()), 1e-6);
   }
 }

@@ -57,7 +57,8 @@ KDL::Chain KdlChainFromUrdf(const std::string& text, const std::string& base, co
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
   if (!model) throw std::runtime_error("urdfdom did not parse the URDF");
   std::vector<urdf::JointConstSharedPtr> joints;
-  for (auto link = model->getLink(tip); link->name != base; link = model->getLink(link->parent_joint->parent_link_name)) {
+  for (auto link = model->getLink(tip); link->name != base;
+       link = model->getLink(link->parent_joint->parent_link_name)) {
     joints.insert(joints.begin(), link->parent_joint);
   }
   KDL::Chain chain;
@@ -176,7 +177,7 @@ TEST(Conversion, UnknownConventionIsOneLine) {
 TEST(UrdfModel, AxisAnglesAndJointsRoundTrip) {
   UrdfModel m(2);
   for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 0, 0),
-                                     Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0.3, -0.4, 0.5)}) {
+                                      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0.3, -0.4, 0.5)}) {
     const Eigen::Isometry3d T = PoseFromXyzRpy(Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(0.4, -0.5, 0.6));
     m.SetJoint(1, T, axis);
     EXPECT_LT((m.JointAxis(1) - axis.normalized()).norm(), 1e-15);
@@ -209,12 +210,13 @@ TEST(UrdfImport, RosIndustrialIrb120MatchesKincalsIrb120File) {
   }
   const Robot urdf = ImportUrdf(Irb120Urdf(), {"base_link", "tool0", "urdf"});
   ASSERT_TRUE(urdf.urdf.has_value());
-  EXPECT_EQ(urdf.urdf->joints, (std::vector<std::string>{"joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6"}));
+  EXPECT_EQ(urdf.urdf->joints,
+            (std::vector<std::string>{"joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6"}));
   ASSERT_EQ(urdf.limits.size(), 6u);
   EXPECT_DOUBLE_EQ(urdf.limits[2].second, 1.22173);
   ASSERT_EQ(urdf.velocity_limits.size(), 6);
   EXPECT_DOUBLE_EQ(urdf.velocity_limits[5], 7.33038);
-  EXPECT_NEAR(urdf.model().Parameter("axis_tilt_2"), M_PI / 2, 1e-15);   // axis y
+  EXPECT_NEAR(urdf.model().Parameter("axis_tilt_2"), M_PI / 2, 1e-15);  // axis y
   EXPECT_NEAR(urdf.model().Parameter("axis_azimuth_2"), M_PI / 2, 1e-15);
   EXPECT_NEAR(urdf.model().Parameter("z_2"), 0.29, 1e-15);
 }
@@ -247,8 +249,9 @@ TEST(UrdfImport, BadFilesGiveOneLine) {
   EXPECT_NE(ImportError(with("fixed"), "b", "c").find("no serial chain"), std::string::npos);
   EXPECT_NE(ImportError(with("fixed"), "a", "nowhere").find("no link 'nowhere'"), std::string::npos);
   EXPECT_NE(ImportError("<robot name=\"r\"><link name=\"a\">\n</robot>", "a", "a").find(":2:"), std::string::npos);
-  EXPECT_NE(ImportError("<robot name=\"r\"><joint name=\"j\" type=\"revolute\"/></robot>", "a", "a").find("not a valid URDF"),
-            std::string::npos);
+  EXPECT_NE(
+      ImportError("<robot name=\"r\"><joint name=\"j\" type=\"revolute\"/></robot>", "a", "a").find("not a valid URDF"),
+      std::string::npos);
 }
 
 // ---- Export ------------------------------------------------------------------------------------------
@@ -262,7 +265,9 @@ TEST(UrdfExport, SeedArmReadByAnIndependentReader) {
   for (const auto& to : kConventions) {
     const Robot converted = seed.WithModel(ConvertModel(seed.model(), to));
     EXPECT_LT(GapToUrdf(seed.model(), Eigen::Isometry3d::Identity(),
-                        KdlChainFromUrdf(RobotToUrdf(converted), "world", "tool0"), 6), 1e-9) << to;
+                        KdlChainFromUrdf(RobotToUrdf(converted), "world", "tool0"), 6),
+              1e-9)
+        << to;
   }
   EXPECT_NE(text.find("lower=\"-2.9670597283903604\""), std::string::npos);  // -170 deg, all digits
 }

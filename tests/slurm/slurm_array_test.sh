@@ -1,5 +1,5 @@
 #!/bin/bash
-# Runs examples/slurm for real (issue 13): a single-node Slurm (slurmctld, slurmd, munged) started here as
+# Runs examples/slurm for real: a single-node Slurm (slurmctld, slurmd, munged) started here as
 # root, without systemd, with its configuration and state in a temporary folder and every address 127.0.0.1.
 # The job array runs the shards of a small study; one task is requeued (scontrol requeue) while it runs; the
 # merge job runs after the array; the merged results and report must equal an unsharded local run.

@@ -43,7 +43,8 @@ TEST(Demo, RunsEveryRegisteredMethodOnTheDataItNeeds) {
 
 TEST(DemoCommand, RunsQuicklyAndQuotesTheSeed) {
   TempDir tmp;
-  const auto r = RunKincal("demo --out " + tmp.path("demo") + " --trials 1 --targets 20 --stops 5 --no-iso --threads 2");
+  const auto r =
+      RunKincal("demo --out " + tmp.path("demo") + " --trials 1 --targets 20 --stops 5 --no-iso --threads 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("2.83 mm -> 0.54 mm"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("before"), std::string::npos);

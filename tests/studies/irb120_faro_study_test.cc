@@ -1,5 +1,5 @@
-// The real-data example study, examples/studies/irb120_faro.yaml, on ../shared/data/irb120_faro (issue 11,
-// item 7): geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, + the
+// The real-data example study, examples/studies/irb120_faro.yaml, on ../shared/data/irb120_faro:
+// geometry, + gravity compliance of joints 2 and 3, + the approach term of every joint, + the
 // wrist's gravity, with the "before" baseline; reflector 1 alone and the three reflectors jointly. Skipped
 // when the data is absent.
 #include <cmath>
@@ -30,7 +30,8 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
     rms[key] = t.Number(r, t.Column("position_error_rms_mm"));
     status[key] = t.Text(r, t.Column("status"));
   }
-  for (const auto& [key, value] : rms) std::printf("held-out RMS %-28s %.4f mm (%s)\n", key.c_str(), value, status[key].c_str());
+  for (const auto& [key, value] : rms)
+    std::printf("held-out RMS %-28s %.4f mm (%s)\n", key.c_str(), value, status[key].c_str());
   // Reflector 1 (references: geometry 0.523-0.525 mm, + compliance about 0.46, + approach 0.259).
   EXPECT_LT(rms["smr1/geometry"], 0.53);
   EXPECT_LE(rms["smr1/compliance"], 0.47);
@@ -58,7 +59,8 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
     ASSERT_EQ(per_marker[estimator].size(), 3u) << estimator;
     for (const auto& [marker, acc] : per_marker[estimator]) {
       const double marker_rms = std::sqrt(acc.first / acc.second);
-      std::printf("three reflectors jointly, %s: %s held-out RMS %.4f mm\n", estimator.c_str(), marker.c_str(), marker_rms);
+      std::printf("three reflectors jointly, %s: %s held-out RMS %.4f mm\n", estimator.c_str(), marker.c_str(),
+                  marker_rms);
       EXPECT_LE(marker_rms, limit) << estimator << " " << marker;
     }
   }

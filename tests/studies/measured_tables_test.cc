@@ -164,7 +164,9 @@ class MeasuredTablesStudy : public ::testing::Test {
     return "name: tables\nrobots: {nominal: nominal.yaml}\n"
            "datasets:\n"
            "  - name: tracker\n"
-           "    tables: {joints: q.txt, positions: " + positions + ", units: {length: mm, angle: deg}}\n"
+           "    tables: {joints: q.txt, positions: " +
+           positions +
+           ", units: {length: mm, angle: deg}}\n"
            "    split: {every: 3}\n"
            "estimators:\n"
            "  - {name: ls, method: least_squares, options: {max_iterations: 100}}\n"
@@ -223,7 +225,8 @@ TEST_F(MeasuredTablesStudy, TablesWithoutASplitAreRefusedWithTheirKey) {
     ReadStudyFile(tmp_.path("bad.yaml"));
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:5:13: datasets[0].tables: tables have no split column"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:5:13: datasets[0].tables: tables have no split column"),
+              std::string::npos)
         << e.what();
   }
   WriteText(tmp_.path("bad2.yaml"),
@@ -233,7 +236,8 @@ TEST_F(MeasuredTablesStudy, TablesWithoutASplitAreRefusedWithTheirKey) {
     ReadStudyFile(tmp_.path("bad2.yaml"));
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("datasets[0].tables.positions.SMR1: cannot read"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("datasets[0].tables.positions.SMR1: cannot read"), std::string::npos)
+        << e.what();
   }
   WriteText(tmp_.path("bad3.yaml"),
             "name: t\nrobots: {nominal: nominal.yaml}\ndatasets:\n  - name: a\n    tables: {joints: q.txt, positions: "

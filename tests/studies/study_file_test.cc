@@ -113,33 +113,46 @@ TEST_F(StudyFileTest, MalformedFilesNameTheKeyAndPlace) {
   const std::string validation = "validation: [{name: v, random_targets: 3}]\n";
   const std::vector<Malformed> cases = {
       {"unknown top-level key", datasets + validation + "trails: 3\n", {"study.yaml:", "trails", "unknown key"}},
-      {"bad noise", "datasets:\n  - name: d\n    simulate: {protocol: random, noise: ten}\n" + validation,
+      {"bad noise",
+       "datasets:\n  - name: d\n    simulate: {protocol: random, noise: ten}\n" + validation,
        {"datasets[0].simulate.noise", "ten"}},
-      {"unknown simulator key", "datasets:\n  - {name: d, simulate: {protocol: random, posses: 5}}\n" + validation,
+      {"unknown simulator key",
+       "datasets:\n  - {name: d, simulate: {protocol: random, posses: 5}}\n" + validation,
        {"datasets[0].simulate.posses", "unknown key"}},
-      {"unknown protocol", "datasets:\n  - {name: d, simulate: {protocol: spiral}}\n" + validation,
+      {"unknown protocol",
+       "datasets:\n  - {name: d, simulate: {protocol: spiral}}\n" + validation,
        {"datasets[0].simulate.protocol", "spiral"}},
-      {"unknown method", datasets + validation + "estimators: [least_squarez]\n",
+      {"unknown method",
+       datasets + validation + "estimators: [least_squarez]\n",
        {"estimators[0]: unknown method 'least_squarez'"}},
-      {"unknown method option", datasets + validation + "estimators:\n  - {method: base_kabsch, options: {bogus: 1}}\n",
+      {"unknown method option",
+       datasets + validation + "estimators:\n  - {method: base_kabsch, options: {bogus: 1}}\n",
        {"estimators[0].options", "bogus"}},
-      {"unknown compensator", datasets + validation + "compensators: [{method: nope}]\n",
+      {"unknown compensator",
+       datasets + validation + "compensators: [{method: nope}]\n",
        {"compensators[0].method", "unknown method 'nope'"}},
       {"trials zero", datasets + validation + "trials: 0\n", {"trials", "integer >= 1"}},
-      {"duplicate dataset", "datasets:\n  - {name: d, simulate: {}}\n  - {name: d, simulate: {}}\n" + validation,
+      {"duplicate dataset",
+       "datasets:\n  - {name: d, simulate: {}}\n  - {name: d, simulate: {}}\n" + validation,
        {"datasets[1].name", "duplicate"}},
-      {"unknown knob", "datasets:\n  - {name: d, simulate: {}, vary: {speed: [1, 2]}}\n" + validation,
+      {"unknown knob",
+       "datasets:\n  - {name: d, simulate: {}, vary: {speed: [1, 2]}}\n" + validation,
        {"datasets[0].vary.speed", "unknown knob"}},
-      {"knob needs sweeps", "datasets:\n  - {name: d, simulate: {protocol: random}, vary: {arc: [10]}}\n" + validation,
+      {"knob needs sweeps",
+       "datasets:\n  - {name: d, simulate: {protocol: random}, vary: {arc: [10]}}\n" + validation,
        {"datasets[0].vary.arc", "sweep protocol"}},
-      {"estimator on unknown dataset", datasets + validation + "estimators: [{method: oracle, datasets: [x]}]\n",
+      {"estimator on unknown dataset",
+       datasets + validation + "estimators: [{method: oracle, datasets: [x]}]\n",
        {"estimators[0].datasets[0]", "unknown dataset 'x'"}},
-      {"negative cube side", datasets + "validation: [{name: c, iso9283: {side: -1mm}}]\n",
+      {"negative cube side",
+       datasets + "validation: [{name: c, iso9283: {side: -1mm}}]\n",
        {"validation[0].iso9283.side"}},
       {"no validation", datasets, {"validation", "missing key"}},
-      {"bad joint limits", datasets + "validation: [{name: v, random_targets: 3, joint_limits: [[0, 1]]}]\n",
+      {"bad joint limits",
+       datasets + "validation: [{name: v, random_targets: 3, joint_limits: [[0, 1]]}]\n",
        {"validation[0].joint_limits", "expected 6"}},
-      {"split on simulated data", "datasets: [{name: d, simulate: {}, split: {every: 2}}]\n" + validation,
+      {"split on simulated data",
+       "datasets: [{name: d, simulate: {}, split: {every: 2}}]\n" + validation,
        {"datasets[0].split"}},
       {"missing data file", "datasets: [{name: d, file: no_such_file.csv}]\n", {"datasets[0].file", "cannot read"}},
       {"invalid yaml", "datasets: [{name: d\n", {"study.yaml:", "invalid YAML"}},
@@ -153,18 +166,19 @@ TEST_F(StudyFileTest, MalformedFilesNameTheKeyAndPlace) {
 
 TEST_F(StudyFileTest, ErrorsGiveTheLineAndColumnOfTheKey) {
   const std::string text = "name: bad\n" + SeedRobotsYaml() +  // lines 1-4
-                           "datasets:\n"                        // 5
-                           "  - name: d\n"                      // 6
-                           "    simulate:\n"                    // 7
-                           "      protocol: random\n"           // 8
-                           "      poses: many\n"                // 9
+                           "datasets:\n"                       // 5
+                           "  - name: d\n"                     // 6
+                           "    simulate:\n"                   // 7
+                           "      protocol: random\n"          // 8
+                           "      poses: many\n"               // 9
                            "validation: [{name: v, random_targets: 3}]\n";
   EXPECT_NE(Error(text).find("study.yaml:9:14: datasets[0].simulate.poses"), std::string::npos) << Error(text);
 }
 
 TEST_F(StudyFileTest, MissingTruthIsAnErrorForSimulatedData) {
-  const std::string message = Error("name: t\nrobots: {nominal: " + testing::SourcePath("examples/robots/seed_nominal.yaml") +
-                                    "}\ndatasets: [{name: d, simulate: {}}]\nvalidation: [{name: v, random_targets: 2}]\n");
+  const std::string message =
+      Error("name: t\nrobots: {nominal: " + testing::SourcePath("examples/robots/seed_nominal.yaml") +
+            "}\ndatasets: [{name: d, simulate: {}}]\nvalidation: [{name: v, random_targets: 2}]\n");
   EXPECT_NE(message.find("robots.truth"), std::string::npos) << message;
 }
 
@@ -194,8 +208,8 @@ TEST(ExampleStudies, Parse) {
                                   message.find("shared/data/") != std::string::npos;
       // A study of data converted into the build folder first (scripts/ur10_ipa2021_dataset; its header
       // says how) is skipped until that is done: the real-data tests convert and run it.
-      const bool not_converted = message.find("cannot read") != std::string::npos &&
-                                 message.find("/build/") != std::string::npos;
+      const bool not_converted =
+          message.find("cannot read") != std::string::npos && message.find("/build/") != std::string::npos;
       if (message.find("unknown method") == std::string::npos && !no_shared_data && !not_converted) {
         ADD_FAILURE() << message;
       } else {

@@ -1,16 +1,22 @@
-// Resumable studies (issue 13): a study stopped part way and run again writes the bytes of an uninterrupted
+// Resumable studies: a study stopped part way and run again writes the bytes of an uninterrupted
 // run, sharded or not, without redoing a journaled item; a torn last record is discarded; a journal of
-// another study is refused. And failing methods (issue 10): an item whose estimator or compensator throws or
+// another study is refused. And failing methods: an item whose estimator or compensator throws or
 // returns NaN is marked failed with its reason, and the study goes on.
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <fstream>
 
+#include <sys/resource.h>
+
 #include <gtest/gtest.h>
 
+#include "framework/error.h"
 #include "studies/journal.h"
 #include "studies/report.h"
 #include "studies/results_files.h"
@@ -24,7 +30,8 @@ namespace {
 using testing::ReadText;
 using testing::TempDir;
 
-const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv", "iso9283.csv"};
+const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
+                                           "iso9283.csv"};
 
 std::string ReportWithoutTimes(const std::string& dir) {
   const std::string report = ReadText(dir + "/report.md");
@@ -86,7 +93,7 @@ TEST_F(StudyResumeTest, StoppedThenResumedEqualsUninterruptedAndRedoesNothing) {
   EXPECT_EQ(first.items_finished, 3);
   EXPECT_EQ(Records(dir), 3);
   EXPECT_FALSE(std::filesystem::exists(dir + "/results.csv"));  // nothing half written
-  const StudyRunSummary second = Run(dir, 2);  // stopped again
+  const StudyRunSummary second = Run(dir, 2);                   // stopped again
   EXPECT_TRUE(second.stopped);
   EXPECT_EQ(second.items_resumed, 3);
   EXPECT_EQ(second.items_finished, 2);
@@ -187,6 +194,32 @@ TEST_F(StudyResumeTest, JournalOfAnotherStudyOrShardIsRefused) {
   EXPECT_THROW(Run(tmp.path("x")), std::invalid_argument);
 }
 
+// A journal that cannot be written (here: the file-size limit, as a full disk would) is an IoError naming
+// the journal and the system's reason, which `kincal study` answers with exit status 2 and that line.
+TEST_F(StudyResumeTest, AJournalWriteThatFailsIsAnIoErrorNamingTheJournal) {
+  TempDir tmp;
+  const std::string dir = tmp.path("out");
+  StudyJournal journal(dir, "fingerprint", 3);
+  const auto size = std::filesystem::file_size(JournalOf(dir));
+  rlimit saved{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
+  const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);  // the write fails with EFBIG instead
+  rlimit limit = saved;
+  limit.rlim_cur = static_cast<rlim_t>(size);
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message;
+  try {
+    journal.Append(1, StudyTables());
+  } catch (const IoError& e) {
+    message = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_EQ(message.rfind(JournalOf(dir) + ": cannot write the journal: ", 0), 0u) << message;
+  EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+}
+
 TEST_F(StudyResumeTest, JournalRowsRoundTripAnyText) {
   StudyTables t;
   t.results.rows = {{"0", "a\"b\\c", "line\nbreak", ""}, {"1"}};
@@ -201,7 +234,7 @@ TEST_F(StudyResumeTest, JournalRowsRoundTripAnyText) {
   EXPECT_THROW(DecodeJournalRows("[[[1]], [], [], [], []]"), std::invalid_argument);
 }
 
-// Issue 10: methods that throw or return NaN fail their rows with the reason; everything else is scored.
+// Methods that throw or return NaN fail their rows with the reason; everything else is scored.
 TEST(StudyFailuresTest, ThrowingOrNanMethodsMarkTheirItemsFailedAndTheStudyGoesOn) {
   const testing::TestRegistries registries = testing::MakeTestRegistries(testing::SeedTruth(), true);
   const std::string yaml = "name: failures\nseed: 3\n" + testing::SeedRobotsYaml() +
@@ -227,7 +260,7 @@ TEST(StudyFailuresTest, ThrowingOrNanMethodsMarkTheirItemsFailedAndTheStudyGoesO
     const std::string& c = t.Text(r, comp);
     SCOPED_TRACE(e + "/" + c);
     if (e == "nan" && c != "throws" && c != "nan") {
-      // The estimator interface catches a non-finite result itself (issue 10: never a NaN written): the
+      // The estimator interface catches a non-finite result itself (never a NaN written): the
       // estimate is failed, the start robot is kept and scored, and the note says why.
       ++failed;
       EXPECT_EQ(t.Text(r, status), "estimate_failed");
@@ -245,8 +278,8 @@ TEST(StudyFailuresTest, ThrowingOrNanMethodsMarkTheirItemsFailedAndTheStudyGoesO
       } else if (c == "throws") {
         EXPECT_NE(why.find("compensator throws: an exception that is not a std::exception"), std::string::npos) << why;
       } else {
-        EXPECT_NE(why.find("compensator nan: returned a non-finite solution at target 1 of targets"),
-                  std::string::npos) << why;
+        EXPECT_NE(why.find("compensator nan: returned a non-finite solution at target 1 of targets"), std::string::npos)
+            << why;
       }
     } else {
       ++scored;

@@ -18,7 +18,8 @@ namespace {
 using testing::ReadText;
 using testing::TempDir;
 
-const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv", "iso9283.csv"};
+const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
+                                           "iso9283.csv"};
 
 class StudyRunTest : public ::testing::Test {
  protected:
@@ -166,8 +167,8 @@ TEST_F(StudyRunTest, ConvergenceAndIsoResults) {
     ++rows;
   }
   EXPECT_GE(rows, 2);
-  EXPECT_GT(first, 1.0);   // mm: the seed's errors before the first step
-  EXPECT_LT(last, 1e-9);   // to round-off
+  EXPECT_GT(first, 1.0);  // mm: the seed's errors before the first step
+  EXPECT_LT(last, 1e-9);  // to round-off
 
   const ResultTable iso = ReadResultTable(tmp.path("r") + "/iso9283.csv");
   std::map<std::string, std::vector<size_t>> by_method;
@@ -240,16 +241,18 @@ TEST_F(StudyRunTest, ReportLinksPlotsThatArePaperFigures) {
   EXPECT_GE(links, 6);
   EXPECT_EQ(kinds, (std::set<std::string>{"errors", "parameters", "convergence"}));
   EXPECT_NE(ReadText(tmp.path("r") + "/plots/convergence_random.svg").find("iteration"), std::string::npos);
-  EXPECT_NE(ReadText(tmp.path("r") + "/plots/errors_random_targets.svg").find("position error (mm)"), std::string::npos);
+  EXPECT_NE(ReadText(tmp.path("r") + "/plots/errors_random_targets.svg").find("position error (mm)"),
+            std::string::npos);
 }
 
 TEST_F(StudyRunTest, SensitivitySweepGivesCurves) {
-  const Study s = ParseStudy("name: sens\ntrials: 2\n" + testing::SeedRobotsYaml() +
-                                 "datasets:\n"
-                                 "  - {name: n, simulate: {protocol: random, poses: 12}, vary: {noise: [1um, 30um, 1mm]}}\n"
-                                 "estimators: [base_kabsch]\ncompensators: [jacobian_ik]\n"
-                                 "validation: [{name: t, random_targets: 5}]\n",
-                             "sens.yaml", registries_.view());
+  const Study s =
+      ParseStudy("name: sens\ntrials: 2\n" + testing::SeedRobotsYaml() +
+                     "datasets:\n"
+                     "  - {name: n, simulate: {protocol: random, poses: 12}, vary: {noise: [1um, 30um, 1mm]}}\n"
+                     "estimators: [base_kabsch]\ncompensators: [jacobian_ik]\n"
+                     "validation: [{name: t, random_targets: 5}]\n",
+                 "sens.yaml", registries_.view());
   TempDir tmp;
   RunStudy(s, tmp.path("r"), StudyRunOptions(), registries_.view());
   const ResultTable t = ReadResultTable(tmp.path("r") + "/results.csv");
@@ -274,13 +277,13 @@ TEST_F(StudyRunTest, MeasuredDataIsScoredOnItsTestRows) {
   o.noise_sigma = 20e-6;
   Dataset data = Simulate(testing::SeedNominal(), testing::SeedTruth(), o);
   WriteDataset(data, tmp.path("measured.csv"));
-  const Study s = ParseStudy("name: real\ntrials: 3\nrobots: {nominal: " +
-                                 testing::SourcePath("examples/robots/seed_nominal.yaml") +
-                                 "}\ndatasets:\n"
-                                 "  - {name: every, file: measured.csv, split: {every: 4}}\n"
-                                 "  - {name: fraction, file: measured.csv, split: {test_fraction: 0.25}}\n"
-                                 "estimators: [base_kabsch]\n",
-                             tmp.path("real.yaml"), registries_.view());
+  const Study s = ParseStudy(
+      "name: real\ntrials: 3\nrobots: {nominal: " + testing::SourcePath("examples/robots/seed_nominal.yaml") +
+          "}\ndatasets:\n"
+          "  - {name: every, file: measured.csv, split: {every: 4}}\n"
+          "  - {name: fraction, file: measured.csv, split: {test_fraction: 0.25}}\n"
+          "estimators: [base_kabsch]\n",
+      tmp.path("real.yaml"), registries_.view());
   RunStudy(s, tmp.path("r"), StudyRunOptions(), registries_.view());
   auto nominal = Rows(tmp.path("r"), "every", "none", "-", "heldout");
   auto fitted = Rows(tmp.path("r"), "every", "base_kabsch", "-", "heldout");

@@ -1,4 +1,4 @@
-// `kincal study` stopped by a real signal (issue 13): SIGTERM stops it with status 143 and a consistent
+// `kincal study` stopped by a real signal: SIGTERM stops it with status 143 and a consistent
 // journal; SIGKILL at any moment loses at most the items in flight; the same command then completes the study
 // with the bytes of an uninterrupted run.
 #include <signal.h>

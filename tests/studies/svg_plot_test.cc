@@ -71,8 +71,8 @@ TEST(RenderSvg, DrawsAxesLabelsLegendAndEscapesText) {
   f.panels.push_back(box);
   const std::string svg = RenderSvg(f);
   EXPECT_NE(svg.find("Errors &lt;before &amp; after&gt;"), std::string::npos);
-  for (const char* text : {">iteration<", ">position error (mm)<", ">orientation error (deg)<", ">a / b<", ">with bars<",
-                           ">box: 25-75 %<", "rotate(-35"}) {
+  for (const char* text : {">iteration<", ">position error (mm)<", ">orientation error (deg)<", ">a / b<",
+                           ">with bars<", ">box: 25-75 %<", "rotate(-35"}) {
     EXPECT_NE(svg.find(text), std::string::npos) << text;
   }
   // Log axis from below 1e-9 (a margin keeps points off the frame) to 10: decades labelled with superscripts,

@@ -58,13 +58,14 @@ class ThrowingEstimator final : public Estimator {
   }
 };
 
-// Returns a robot with a NaN parameter, as a solver that diverged without noticing would (issue 10).
+// Returns a robot with a NaN parameter, as a solver that diverged without noticing would.
 class NanEstimator final : public Estimator {
  public:
   std::string name() const override { return "nan"; }
 
  private:
-  void DoEstimate(const Robot& start, const Robot&, const Dataset&, Robot* identified, EstimationReport* report) const override {
+  void DoEstimate(const Robot& start, const Robot&, const Dataset&, Robot* identified,
+                  EstimationReport* report) const override {
     Eigen::VectorXd p = start.model().Parameters();
     p[0] = NAN;
     identified->model().SetParameters(p);
@@ -99,7 +100,8 @@ class OracleEstimator final : public Estimator {
   std::string name() const override { return "oracle"; }
 
  private:
-  void DoEstimate(const Robot&, const Robot&, const Dataset&, Robot* identified, EstimationReport* report) const override {
+  void DoEstimate(const Robot&, const Robot&, const Dataset&, Robot* identified,
+                  EstimationReport* report) const override {
     *identified = truth_;
     report->status = EstimationStatus::kConverged;
   }
@@ -144,47 +146,46 @@ TestRegistries MakeTestRegistries(const Robot& truth, bool with_failures) {
   TestRegistries r;
   r.estimators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
                            return std::make_unique<NoneEstimator>(NoneEstimator::Options::FromYaml(o));
-                         }, true, ""});
-  r.estimators.Register({"base_kabsch", "test double: base transform only",
-                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-                           OptionsReader(o, "base_kabsch").Finish();
-                           return std::make_unique<BaseKabschEstimator>();
-                         }, true, ""});
-  r.estimators.Register({"oracle", "test double: returns the truth",
-                         [truth](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-                           OptionsReader(o, "oracle").Finish();
-                           return std::make_unique<OracleEstimator>(truth);
-                         }, true, ""});
-  r.estimators.Register({"throws", "test double: always throws",
-                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                         }});
+  r.estimators.Register(
+      {"base_kabsch", "test double: base transform only", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+         OptionsReader(o, "base_kabsch").Finish();
+         return std::make_unique<BaseKabschEstimator>();
+       }});
+  r.estimators.Register(
+      {"oracle", "test double: returns the truth", [truth](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+         OptionsReader(o, "oracle").Finish();
+         return std::make_unique<OracleEstimator>(truth);
+       }});
+  r.estimators.Register({"throws", "test double: always throws", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
                            OptionsReader(o, "throws").Finish();
                            return std::make_unique<ThrowingEstimator>();
-                         }, true, ""});
+                         }});
   if (with_failures) {
-  r.estimators.Register({"nan", "test double: returns a NaN parameter",
-                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-                           OptionsReader(o, "nan").Finish();
-                           return std::make_unique<NanEstimator>();
-                         }, true, ""});
-  r.compensators.Register({"throws", "test double: throws an int",
-                           [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
-                             OptionsReader(o, "throws").Finish();
-                             return std::make_unique<ThrowingCompensator>();
-                           }, true, ""});
-  r.compensators.Register({"nan", "test double: returns NaN joint angles",
-                           [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
-                             OptionsReader(o, "nan").Finish();
-                             return std::make_unique<NanCompensator>();
-                           }, true, ""});
+    r.estimators.Register(
+        {"nan", "test double: returns a NaN parameter", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+           OptionsReader(o, "nan").Finish();
+           return std::make_unique<NanEstimator>();
+         }});
+    r.compensators.Register(
+        {"throws", "test double: throws an int", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+           OptionsReader(o, "throws").Finish();
+           return std::make_unique<ThrowingCompensator>();
+         }});
+    r.compensators.Register(
+        {"nan", "test double: returns NaN joint angles", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+           OptionsReader(o, "nan").Finish();
+           return std::make_unique<NanCompensator>();
+         }});
   }
   r.compensators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
                              return std::make_unique<NoneCompensator>(NoneCompensator::Options::FromYaml(o));
-                           }, true, ""});
+                           }});
   r.compensators.Register({"jacobian_ik", "test double: damped Gauss-Newton on the identified robot",
                            [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
                              OptionsReader(o, "jacobian_ik").Finish();
                              return std::make_unique<JacobianIkCompensator>();
-                           }, true, ""});
+                           }});
   return r;
 }
 

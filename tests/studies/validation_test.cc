@@ -17,7 +17,7 @@ TEST(Iso9283, PointsLieOnTheDiagonalPlaneAtTenPercentOfTheDiagonal) {
   for (int i = 1; i < 5; ++i) {
     const Eigen::Vector3d d = p[i] - c;
     EXPECT_NEAR(d.norm(), 0.8 * half_diagonal, 1e-15);  // 10 % of the full diagonal from the corner
-    EXPECT_NEAR(d.x(), d.y(), 1e-15);                    // the plane through the edges (-x,-y) and (+x,+y)
+    EXPECT_NEAR(d.x(), d.y(), 1e-15);                   // the plane through the edges (-x,-y) and (+x,+y)
     EXPECT_NEAR(std::abs(d.z()), 0.4 * side, 1e-15);
   }
   // Opposite points are symmetric about the centre.
@@ -34,7 +34,7 @@ TEST(Iso9283, AccuracyAndRepeatabilityOfKnownAttainedPoses) {
   for (int j = 0; j < n; ++j) {
     const double sign = j % 2 ? 1.0 : -1.0;
     Eigen::Isometry3d T = commanded;
-    T.translation() += Eigen::Vector3d(2e-3, sign * d, 0.0);       // offset 2 mm in x, scatter d in y
+    T.translation() += Eigen::Vector3d(2e-3, sign * d, 0.0);  // offset 2 mm in x, scatter d in y
     T.linear() = RotationExp(Eigen::Vector3d(0.01, 0.0, sign * eps)) * commanded.linear();
     attained.push_back(T);
   }

@@ -61,7 +61,9 @@ inline KDL::Chain KdlChain(const KinematicModel& model) {
   KDL::Chain chain;
   const KDL::Frame base = ToKdl(model.base()), tool = ToKdl(model.tool());
   if (model.convention() == "mdh") {
-    const auto row = [&](int i) { return KDL::Frame::DH_Craig1989(p("a", i), p("alpha", i), p("d", i), p("theta", i)); };
+    const auto row = [&](int i) {
+      return KDL::Frame::DH_Craig1989(p("a", i), p("alpha", i), p("d", i), p("theta", i));
+    };
     add_fixed(&chain, base * row(1));
     for (int i = 1; i <= n; ++i) chain.addSegment(KDL::Segment(joint(i), i < n ? row(i + 1) : tool));
   } else {

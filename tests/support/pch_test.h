@@ -1,6 +1,6 @@
 // The headers every test program is compiled with first, precompiled once per build (tests/CMakeLists.txt,
-// KINCAL_PCH): GoogleTest, the library set (cmake/pch_library.h) and the kincal headers most tests include.
-// Each test still includes what it uses.
+// KINCAL_PCH): GoogleTest and the library set (cmake/pch_library.h). Third-party and standard headers
+// only: a kincal header here would hide a test's missing include.
 #pragma once
 #include <cstdio>
 #include <cstdlib>
@@ -10,11 +10,3 @@
 #include <gtest/gtest.h>
 
 #include "cmake/pch_library.h"
-#include "estimators/estimator.h"
-#include "framework/dataset.h"
-#include "framework/math.h"
-#include "framework/random.h"
-#include "robot/prediction.h"
-#include "robot/robot_file.h"
-#include "robot/simulator.h"
-#include "tests/support/test_util.h"

@@ -28,15 +28,15 @@ inline bool SharedDataRequired() {
 
 // In a test body or SetUp (GoogleTest included): when `available` is false, skips the test with `message`,
 // or fails it under KINCAL_REQUIRE_DATA=1. Either way the function returns.
-#define KINCAL_SKIP_WITHOUT_SHARED_DATA(available, message)                                  \
-  do {                                                                                      \
-    if (!(available)) {                                                                     \
-      if (::kincal::testing::SharedDataRequired()) {                                       \
-        FAIL() << "KINCAL_REQUIRE_DATA=1, but " << message;                               \
-      } else {                                                                              \
-        GTEST_SKIP() << message;                                                            \
-      }                                                                                     \
-    }                                                                                       \
+#define KINCAL_SKIP_WITHOUT_SHARED_DATA(available, message) \
+  do {                                                      \
+    if (!(available)) {                                     \
+      if (::kincal::testing::SharedDataRequired()) {        \
+        FAIL() << "KINCAL_REQUIRE_DATA=1, but " << message; \
+      } else {                                              \
+        GTEST_SKIP() << message;                            \
+      }                                                     \
+    }                                                       \
   } while (0)
 
 inline Robot LoadExampleRobot(const std::string& file) { return ReadRobotFile(SourcePath("examples/robots/" + file)); }

@@ -110,8 +110,7 @@ void KernelRidge::Fit(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, const 
 Eigen::Vector3d KernelRidge::Predict(const Eigen::VectorXd& x) const {
   if (!fitted()) return Eigen::Vector3d::Zero();
   const Eigen::VectorXd xs = x.cwiseQuotient(length_scales_);
-  const Eigen::VectorXd k =
-      KernelOf((X_.rowwise() - xs.transpose()).rowwise().squaredNorm().array(), kernel_).matrix();
+  const Eigen::VectorXd k = KernelOf((X_.rowwise() - xs.transpose()).rowwise().squaredNorm().array(), kernel_).matrix();
   return mean_ + alpha_.transpose() * k;
 }
 

@@ -33,8 +33,8 @@ class KernelRidge {
   // X: n x d inputs, Y: n x 3 targets. Chooses l and lambda by cross-validation, then fits on every row.
   void Fit(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, const KernelRidgeOptions& options);
   // Fit with given hyper-parameters: one length scale per input column.
-  void FitWith(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, const Eigen::VectorXd& length_scales,
-               double lambda, Kernel kernel);
+  void FitWith(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, const Eigen::VectorXd& length_scales, double lambda,
+               Kernel kernel);
   bool fitted() const { return X_.rows() > 0; }
   Eigen::Vector3d Predict(const Eigen::VectorXd& x) const;
   // d Predict / dx: 3 x d.
@@ -49,8 +49,7 @@ class KernelRidge {
  private:
   // K-fold cross-validated RMS of the residual's norm.
   double CrossValidate(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, const Eigen::VectorXd& length_scales,
-                       double lambda, Kernel kernel, const std::vector<int>& order, int folds,
-                       double* mean_only) const;
+                       double lambda, Kernel kernel, const std::vector<int>& order, int folds, double* mean_only) const;
 
   Eigen::MatrixXd X_;      // n x d, divided by the length scales
   Eigen::MatrixXd alpha_;  // n x 3

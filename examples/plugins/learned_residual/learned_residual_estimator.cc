@@ -5,6 +5,7 @@
 #include <string>
 
 #include "framework/registry.h"
+#include "approach_residual.h"
 #include "residual_model.h"
 #include "robot/joint_readings.h"
 #include "robot/prediction.h"
@@ -23,6 +24,10 @@ Eigen::Matrix3d SessionBaseRotation(const kincal::Robot& robot, int session) {
 void LearnedResidualEstimator::DoEstimate(const kincal::Robot& start, const kincal::Robot& controller,
                                           const kincal::Dataset& data, kincal::Robot* identified,
                                           kincal::EstimationReport* report) const {
+  if (kincal::JointCorrectionOf(start)) {
+    throw std::invalid_argument("learned_residual: the robot already has a learned residual");
+  }
+  if (with_approach_) return EstimateWithApproach(start, controller, data, identified, report);
   const size_t n = data.rows.size();
   const auto previous = data.PreviousPoses();
   Eigen::MatrixXd X(n, start.dof()), Y(n, 3);
@@ -44,18 +49,75 @@ void LearnedResidualEstimator::DoEstimate(const kincal::Robot& start, const kinc
   for (int j = 0; j < residual->length_scales().size(); ++j) {
     scales += (j ? " " : "") + std::to_string(residual->length_scales()[j]);
   }
-  report->message = "kernel ridge regression of the position residual, length scales " + scales +
-                    " rad, lambda " + std::to_string(residual->lambda());
-  report->details["length_scales_rad"] = std::vector<double>(residual->length_scales().data(),
-      residual->length_scales().data() + residual->length_scales().size());
+  report->message = "kernel ridge regression of the position residual, length scales " + scales + " rad, lambda " +
+                    std::to_string(residual->lambda());
+  report->details["length_scales_rad"] = std::vector<double>(
+      residual->length_scales().data(), residual->length_scales().data() + residual->length_scales().size());
   report->details["lambda"] = residual->lambda();
   report->details["cv_rms_m"] = residual->cv_rms();
   report->details["cv_rms_mean_only_m"] = residual->cv_rms_mean_only();
 }
 
-KernelRidgeOptions ReadLearnedResidualOptions(const YAML::Node& node, bool* in_tool_frame) {
+void LearnedResidualEstimator::EstimateWithApproach(const kincal::Robot& start, const kincal::Robot& controller,
+                                                    const kincal::Dataset& data, kincal::Robot* identified,
+                                                    kincal::EstimationReport* report) const {
+  const size_t n = data.rows.size();
+  const int dof = start.dof();
+  const auto previous = data.PreviousPoses();
+  Eigen::MatrixXd X(n, 2 * dof), Y(n, 3);
+  Eigen::Vector3d p_tool_point = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const kincal::Measurement& m = data.rows[i];
+    const Eigen::VectorXd qbar = kincal::DriveAngles(controller, start, m);
+    const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i]);
+    const std::vector<int64_t>* enc_prev = data.PreviousEncoders(previous[i]);
+    const Eigen::VectorXd qbar_prev =
+        q_prev ? kincal::DriveAngles(controller, start, *q_prev, enc_prev ? *enc_prev : std::vector<int64_t>{})
+               : Eigen::VectorXd();
+    X.row(i) = ApproachFeatures(start, qbar, q_prev ? &qbar_prev : nullptr).transpose();
+    const Eigen::Vector3d r = m.p - kincal::PredictMarker(controller, start, data, i, previous);
+    Y.row(i) = (SessionBaseRotation(start, m.session).transpose() * r).transpose();
+    // The reference point: the rows' marker (their mean with several).
+    p_tool_point += start.MarkerPosition(m.marker) / static_cast<double>(n);
+  }
+  // The speeds in units of their spread over these rows, so that one grid of length scales fits both.
+  Eigen::VectorXd spread = Eigen::VectorXd::Ones(2 * dof);
+  for (int j = dof; j < 2 * dof; ++j) {
+    const double mean = X.col(j).mean();
+    const double sd = std::sqrt((X.col(j).array() - mean).square().mean());
+    if (sd > 0) spread[j] = sd;
+  }
+  X = X * spread.cwiseInverse().asDiagonal();
+  auto residual = std::make_shared<KernelRidge>();
+  residual->Fit(X, Y, options_);
+  auto approach = std::make_shared<ApproachResidual>(residual, spread, p_tool_point);
+  *identified = start.WithModel(std::make_unique<ResidualModel>(start.model().Clone(), nullptr, false, approach));
+  report->status = kincal::EstimationStatus::kConverged;
+  std::string scales;
+  for (int j = 0; j < residual->length_scales().size(); ++j) {
+    scales += (j ? " " : "") + std::to_string(residual->length_scales()[j]);
+  }
+  report->message =
+      "kernel ridge regression of the position residual on the readings and approach speeds, "
+      "as a joint-level correction; length scales " +
+      scales + " (rad, speed spreads), lambda " + std::to_string(residual->lambda());
+  report->details["length_scales"] = std::vector<double>(
+      residual->length_scales().data(), residual->length_scales().data() + residual->length_scales().size());
+  report->details["speed_spreads"] = std::vector<double>(spread.data() + dof, spread.data() + 2 * dof);
+  report->details["lambda"] = residual->lambda();
+  report->details["cv_rms_m"] = residual->cv_rms();
+  report->details["cv_rms_mean_only_m"] = residual->cv_rms_mean_only();
+}
+
+KernelRidgeOptions ReadLearnedResidualOptions(const YAML::Node& node, bool* in_tool_frame, bool* with_approach) {
   KernelRidgeOptions o;
   kincal::OptionsReader reader(node, "learned_residual");
+  std::string features = "joints";
+  reader.Get("features", &features);
+  if (features != "joints" && features != "joints_and_approach") {
+    reader.Fail("features", "expected joints or joints_and_approach, got '" + features + "'");
+  }
+  if (with_approach) *with_approach = features == "joints_and_approach";
   std::string frame = "base";
   reader.Get("frame", &frame);
   if (frame != "base" && frame != "tool") reader.Fail("frame", "expected base or tool, got '" + frame + "'");
@@ -85,4 +147,3 @@ KernelRidgeOptions ReadLearnedResidualOptions(const YAML::Node& node, bool* in_t
 }
 
 }  // namespace kincal_learned
-

@@ -11,11 +11,12 @@
 KINCAL_PLUGIN(registrar) {
   registrar.AddEstimator(
       "learned_residual",
-      "plugin: kernel ridge regression (Gaussian-process mean) of the position residual on the joint angles, "
+      "plugin: kernel ridge regression (Gaussian-process mean) of the position residual on the joint angles "
+      "(optionally the approach speeds), "
       "on top of the robot it receives; hyper-parameters by cross-validation on the training rows",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
-        bool in_tool_frame = false;
-        const auto options = kincal_learned::ReadLearnedResidualOptions(node, &in_tool_frame);
-        return std::make_unique<kincal_learned::LearnedResidualEstimator>(options, in_tool_frame);
+        bool in_tool_frame = false, with_approach = false;
+        const auto options = kincal_learned::ReadLearnedResidualOptions(node, &in_tool_frame, &with_approach);
+        return std::make_unique<kincal_learned::LearnedResidualEstimator>(options, in_tool_frame, with_approach);
       });
 }

@@ -31,7 +31,7 @@ TEST(CircleFit, EveryFitIsExactOnPointsOnACircle) {
     int count;
   };
   const Case cases[] = {{{0.0, 0.0}, 1.0, 360.0 * 19 / 20, 20},
-                        {{1.2, -0.7}, 0.05, 38.0, 20},   // the seed's joint 6: 50 mm, 20 x 2 deg
+                        {{1.2, -0.7}, 0.05, 38.0, 20},  // the seed's joint 6: 50 mm, 20 x 2 deg
                         {{-2.0, 3.0}, 0.9, 10.0, 5},
                         {{1000.0, -2000.0}, 3.0, 60.0, 3}};  // far from the origin, three points
   for (const Case& c : cases) {
@@ -97,8 +97,9 @@ TEST(CircleFit, DefaultIsTheMostAccurateOnShortArcs) {
         median[m] = errors[errors.size() / 2];
       }
       const double kasa = median[0], pratt = median[1], taubin = median[2], geometric = median[3];
-      std::printf("arc %2.0f deg noise %.3f: median centre error / noise: kasa %.2f pratt %.2f taubin %.2f geometric %.2f\n",
-                  arc_deg, noise, kasa / noise, pratt / noise, taubin / noise, geometric / noise);
+      std::printf(
+          "arc %2.0f deg noise %.3f: median centre error / noise: kasa %.2f pratt %.2f taubin %.2f geometric %.2f\n",
+          arc_deg, noise, kasa / noise, pratt / noise, taubin / noise, geometric / noise);
       EXPECT_LE(geometric, 1.01 * std::min(pratt, taubin));
       EXPECT_GE(kasa, 1.05 * geometric);
       if (arc_deg == 20.0) {

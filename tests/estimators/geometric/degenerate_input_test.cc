@@ -69,7 +69,8 @@ TEST(DegenerateInput, EstimatorsThrowClearErrors) {
   }
   // The ratio regression refuses the same arcs, and a robot without drives.
   Robot identified;
-  EXPECT_THROW(RatioRegressionEstimator().Estimate(nominal, DegenerateCases()[1].data, &identified), std::invalid_argument);
+  EXPECT_THROW(RatioRegressionEstimator().Estimate(nominal, DegenerateCases()[1].data, &identified),
+               std::invalid_argument);
   Robot no_drives = nominal;
   no_drives.drives.reset();
   EXPECT_THROW(RatioRegressionEstimator().Estimate(no_drives, SeedSweeps(no_drives, no_drives, 0.0, 1), &identified),
@@ -83,7 +84,8 @@ joints:
   - {alpha: 0, a: 0, theta: 0, d: 0}
   - {alpha: 90, a: 0.1, theta: 0, d: 0, type: prismatic}
 tool: {xyz: [0.1, 0.05, 0.02]}
-)", "prismatic");
+)",
+                                         "prismatic");
   EXPECT_THROW(GeometricEstimator().Estimate(prismatic, SeedSweeps(prismatic, prismatic, 0.0, 1), &identified),
                std::invalid_argument);
 }
@@ -108,8 +110,8 @@ TEST(DegenerateInput, CommandLineExitsWithStatusTwo) {
   const Robot n = SeedNominal();
   WriteDataset(SeedSweeps(n, SeedTruth(), 10e-6, 1), dir.path("good.csv"));
   const CommandResult r = RunKincal("identify --nominal " + nominal + " --data " + dir.path("good.csv") +
-                                    " --method geometric,ratio_regression --out " + dir.path("id.yaml") +
-                                    " --report " + dir.path("report.json"));
+                                    " --method geometric,ratio_regression --out " + dir.path("id.yaml") + " --report " +
+                                    dir.path("report.json"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(ReadText(dir.path("report.json")));
   ASSERT_EQ(report["stages"].size(), 2u);

@@ -25,8 +25,8 @@ namespace kincal::testing {
 namespace {
 
 struct Scored {
-  double rms = 0.0;                  // m, every scored row
-  std::map<int, double> per_sweep;   // m
+  double rms = 0.0;                 // m, every scored row
+  std::map<int, double> per_sweep;  // m
   EstimationReport report;
   Robot identified;
 };

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "estimators/geometric/common_normals.h"
-#include "estimators/geometric/mdh_conversion.h"
+#include "models/conversion.h"
 #include "estimators/geometric/mdh_from_frames.h"
 #include "framework/math.h"
 #include "framework/random.h"
@@ -31,8 +31,9 @@ TEST(MdhFromFrames, RowsRoundTripThroughFrames) {
   for (int trial = 0; trial < 200; ++trial) {
     const MdhRow row{rng.Uniform(-3.1, 3.1), rng.Uniform(-1, 1), rng.Uniform(-3.1, 3.1), rng.Uniform(-1, 1)};
     const double q = rng.Uniform(-3, 3);
-    const Eigen::Isometry3d T_meas_prev = PoseFromXyzRpy({rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)},
-                                                         {rng.Uniform(-3, 3), rng.Uniform(-1.5, 1.5), rng.Uniform(-3, 3)});
+    const Eigen::Isometry3d T_meas_prev =
+        PoseFromXyzRpy({rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)},
+                       {rng.Uniform(-3, 3), rng.Uniform(-1.5, 1.5), rng.Uniform(-3, 3)});
     const MdhRow back = MdhRowFromFrames(T_meas_prev, T_meas_prev * MdhTransform(row, q), q);
     EXPECT_NEAR(back.alpha, row.alpha, 1e-13);
     EXPECT_NEAR(back.a, row.a, 1e-14);
@@ -77,8 +78,9 @@ joints:
   - {theta: 0, d: 0.163941, a: 0, alpha: 1.5707963267948966}
   - {theta: 0, d: 0.1157, a: 0, alpha: -1.5707963267948966}
   - {theta: 0, d: 0.0922, a: 0, alpha: 0}
-)", "ur10");
-  const Robot mdh = ToMdhRobot(ur10, "test");
+)",
+                                    "ur10");
+  const Robot mdh = ur10.WithModel(ConvertModel(ur10.model(), "mdh"));
   const Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
   const std::vector<Eigen::Isometry3d> F = mdh.model().FramePoses(q);
   std::vector<AxisLine> axes;
@@ -92,8 +94,8 @@ joints:
     EXPECT_LT((frames.frames[i].translation() - F[i + 1].translation()).norm(), 1e-3) << "frame " << i + 1;
   }
   ASSERT_EQ(frames.pairs.size(), 5u);
-  EXPECT_TRUE(frames.pairs[1].parallel);   // axes 2, 3
-  EXPECT_TRUE(frames.pairs[2].parallel);   // axes 3, 4
+  EXPECT_TRUE(frames.pairs[1].parallel);  // axes 2, 3
+  EXPECT_TRUE(frames.pairs[2].parallel);  // axes 3, 4
   EXPECT_FALSE(frames.pairs[0].parallel);
   EXPECT_NEAR(std::abs(frames.pairs[1].dropped_tilt), 1e-4, 1e-8);
   const MdhRow row3 = MdhRowFromFrames(frames.frames[1], frames.frames[2], 0.0);
@@ -117,8 +119,9 @@ joints:
   - {theta: 0, d: 0.3, a: 0.01, alpha: -90}
 base: {xyz: [0.1, -0.2, 0.3], rpy: [10, 20, 30]}
 tool: {xyz: [0.04, 0.03, 0.1], rpy: [-5, 15, 25]}
-)", "arm");
-  const Robot mdh = ToMdhRobot(dh, "test");
+)",
+                                  "arm");
+  const Robot mdh = dh.WithModel(ConvertModel(dh.model(), "mdh"));
   EXPECT_EQ(mdh.model().convention(), "mdh");
   Rng rng(8);
   for (int trial = 0; trial < 20; ++trial) {

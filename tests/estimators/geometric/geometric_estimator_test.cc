@@ -8,6 +8,7 @@
 #include "estimators/ratio_regression/ratio_regression_estimator.h"
 #include "robot/prediction.h"
 #include "framework/random.h"
+#include "models/conversion.h"
 #include "robot/robot_file.h"
 #include "tests/estimators/geometric/seed_fixture.h"
 #include "tests/support/test_util.h"
@@ -40,9 +41,8 @@ TEST(GeometricEstimator, NoiseFreeSweepsGiveBackTheTruth) {
   ASSERT_EQ(reports.size(), 2u);
   EXPECT_EQ(identified.model().convention(), "mdh");
   const double geometry_error = MaxParameterError(identified, truth);
-  const double ratio_error = ((identified.drives->ratio - truth.drives->ratio).array() / truth.drives->ratio.array())
-                                 .abs()
-                                 .maxCoeff();
+  const double ratio_error =
+      ((identified.drives->ratio - truth.drives->ratio).array() / truth.drives->ratio.array()).abs().maxCoeff();
   std::printf("noise-free: largest table/base/tool error %.3g (m or rad), largest relative ratio error %.3g\n",
               geometry_error, ratio_error);
   EXPECT_LT(geometry_error, 1e-12);
@@ -82,7 +82,8 @@ TEST(GeometricEstimator, CalibrationConfigurationAwayFromZero) {
   EXPECT_LT(MaxParameterError(geometric_only, truth), 1e-11);
   Identify(nominal, data, &identified);
   EXPECT_LT(MaxParameterError(identified, truth), 1e-11);
-  EXPECT_LT(((identified.drives->ratio - truth.drives->ratio).array() / truth.drives->ratio.array()).abs().maxCoeff(), 1e-12);
+  EXPECT_LT(((identified.drives->ratio - truth.drives->ratio).array() / truth.drives->ratio.array()).abs().maxCoeff(),
+            1e-12);
 }
 
 // A standard-DH nominal is converted to MDH exactly; the identified robot is MDH and predicts the truth.
@@ -108,10 +109,43 @@ tool: {xyz: [0.04, 0.03, 0.05], rpy: [0, 0, 0]}
   const Dataset data = SeedSweeps(nominal, truth, 0.0, 1);
   Robot identified;
   const EstimationReport report = GeometricEstimator().Estimate(nominal, data, &identified);
-  EXPECT_EQ(identified.model().convention(), "mdh");
+  EXPECT_EQ(identified.model().convention(), "dh");
   ASSERT_FALSE(report.warnings.empty());
-  EXPECT_NE(report.warnings[0].find("converted"), std::string::npos);
+  EXPECT_NE(report.warnings.back().find("converted"), std::string::npos);
   EXPECT_LT(EvaluatePredictions(nominal, identified, HeldOut(nominal, truth)).position_stats.max, 1e-11);
+}
+
+// The construction is modified DH's; a start in another convention is converted exactly there and the
+// result back. Each must put the marker where the MDH start's result puts it, on the same noisy sweeps
+// (to rounding), in the start's own convention.
+TEST(GeometricEstimator, EveryConventionGivesTheKinematicsOfTheMdhStart) {
+  const Robot nominal = SeedNominal(), truth = SeedTruth();
+  const Dataset data = SeedSweeps(nominal, truth, 10e-6, 3);
+  Robot reference;
+  GeometricEstimator().Estimate(nominal, data, &reference);
+  for (const std::string convention : {"dh", "hayati", "poe"}) {
+    SCOPED_TRACE(convention);
+    const Robot start = nominal.WithModel(ConvertModel(nominal.model(), convention));
+    Robot identified;
+    const EstimationReport report = GeometricEstimator().Estimate(start, data, &identified);
+    ASSERT_NE(report.status, EstimationStatus::kFailed) << report.message;
+    EXPECT_EQ(identified.model().convention(), convention);
+    Rng rng(5);
+    double worst = 0.0;
+    for (int trial = 0; trial < 50; ++trial) {
+      Eigen::VectorXd q(nominal.dof());
+      for (int i = 0; i < q.size(); ++i) q[i] = rng.Uniform(-3, 3);
+      // The marker's position: what the sweeps determine (the tool's orientation is held at the start's).
+      const Eigen::Isometry3d a = reference.model().ForwardKinematics(q), b = identified.model().ForwardKinematics(q);
+      worst = std::max(worst, (a.translation() - b.translation()).norm());
+    }
+    EXPECT_LT(worst, 1e-9);
+    // And the construction did something: the identified arm is not the start.
+    EXPECT_GT((reference.model().ForwardKinematics(Eigen::VectorXd::Zero(nominal.dof())).translation() -
+               nominal.model().ForwardKinematics(Eigen::VectorXd::Zero(nominal.dof())).translation())
+                  .norm(),
+              1e-5);
+  }
 }
 
 // A UR10-like arm (axes 2, 3, 4 parallel), nominal in standard DH, truth tilted about x_2 and x_3 and
@@ -132,7 +166,8 @@ joints:
   - {theta: 0, d: 0.1157, a: 0, alpha: -1.5707963267948966}
   - {theta: 0, d: 0.0922, a: 0, alpha: 0}
 tool: {xyz: [0.05, 0.04, 0.08], rpy: [0, 0, 0]}
-)", "ur10");
+)",
+                                       "ur10");
   Robot truth = nominal;
   truth.model().SetParameter("alpha_2", 1e-3);
   truth.model().SetParameter("alpha_3", -5e-4);
@@ -170,7 +205,8 @@ tool: {xyz: [0.05, 0.04, 0.08], rpy: [0, 0, 0]}
 TEST(GeometricEstimator, ReportListsAxesResidualsAndStandardDeviations) {
   const Robot nominal = SeedNominal(), truth = SeedTruth();
   Robot identified;
-  const EstimationReport report = GeometricEstimator().Estimate(nominal, SeedSweeps(nominal, truth, 10e-6, 2), &identified);
+  const EstimationReport report =
+      GeometricEstimator().Estimate(nominal, SeedSweeps(nominal, truth, 10e-6, 2), &identified);
   ASSERT_EQ(report.details["axes"].size(), 6u);
   for (const auto& axis : report.details["axes"]) {
     EXPECT_EQ(axis["point_m"].size(), 3u);
@@ -222,8 +258,8 @@ TEST(GeometricEstimator, BootstrapStandardDeviations) {
 }
 
 TEST(GeometricEstimator, OptionsFromYaml) {
-  const auto o = GeometricEstimator::Options::FromYaml(
-      YAML::Load("{circle_fit: taubin, parallel_threshold: 2, min_spread: 5um, stddev: bootstrap, bootstrap_samples: 50}"));
+  const auto o = GeometricEstimator::Options::FromYaml(YAML::Load(
+      "{circle_fit: taubin, parallel_threshold: 2, min_spread: 5um, stddev: bootstrap, bootstrap_samples: 50}"));
   EXPECT_EQ(o.arc.circle_fit, geometric::CircleFitMethod::kTaubin);
   EXPECT_NEAR(o.parallel_threshold, 2 * M_PI / 180, 1e-15);
   EXPECT_NEAR(o.arc.min_spread, 5e-6, 1e-18);
@@ -245,7 +281,8 @@ TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
   const EstimationReport report = GeometricEstimator().Estimate(nominal, data, &identified);
   EXPECT_EQ(report.details["markers"].size(), 2u);
   const Eigen::VectorXd a = identified.model().Parameters(), b = truth.model().Parameters();
-  const std::vector<ParameterInfo> info = identified.model().parameter_info();  // a copy: identified is reassigned below
+  const std::vector<ParameterInfo> info =
+      identified.model().parameter_info();  // a copy: identified is reassigned below
   for (int k = 0; k < identified.model().num_parameters(); ++k) {
     if (info[k].name.rfind("tool_", 0) != 0) {
       EXPECT_NEAR(a[k], b[k], 1e-11) << info[k].name;
@@ -254,8 +291,10 @@ TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
   EXPECT_TRUE(identified.model().tool().isApprox(nominal.model().tool(), 0.0));
   for (const char* id : {"A", "B"}) {
     // Each marker in frame 6 where the truth has it.
-    EXPECT_LT((identified.model().tool() * identified.markers.at(id) - truth.model().tool() * truth.markers.at(id)).norm(),
-              1e-12) << id;
+    EXPECT_LT(
+        (identified.model().tool() * identified.markers.at(id) - truth.model().tool() * truth.markers.at(id)).norm(),
+        1e-12)
+        << id;
   }
   GeometricEstimator::Options o;
   o.marker = "A";
@@ -265,8 +304,9 @@ TEST(GeometricEstimator, SeveralMarkersTogetherOrOneChosen) {
       EXPECT_NEAR(identified.model().Parameters()[k], b[k], 1e-11) << info[k].name;
     }
   }
-  EXPECT_LT((identified.model().tool() * identified.markers.at("A") - truth.model().tool() * truth.markers.at("A")).norm(),
-            1e-12);
+  EXPECT_LT(
+      (identified.model().tool() * identified.markers.at("A") - truth.model().tool() * truth.markers.at("A")).norm(),
+      1e-12);
 }
 
 }  // namespace

@@ -108,8 +108,7 @@ TEST_P(MultiMarkerSweeps, NoiseFreeGiveBackTheTruth) {
   Robot identified;
   const EstimationReport report = RunPipeline({"geometric"}, {YAML::Load("{}")}, nominal, data, &identified).at(0);
   const PredictionErrors e = EvaluatePredictions(nominal, identified, RandomPoses(nominal, truth));
-  std::printf("stops 1/%d: largest error at 150 random marker positions %.3g m\n", GetParam(),
-              e.position_stats.max);
+  std::printf("stops 1/%d: largest error at 150 random marker positions %.3g m\n", GetParam(), e.position_stats.max);
   EXPECT_LT(e.position_stats.max, 1e-9);
   for (const std::string& id : kMarkers) {
     // The markers in the identified tool frame differ from the truth's only through the held d_6 and

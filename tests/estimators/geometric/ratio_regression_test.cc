@@ -17,7 +17,8 @@ double MaxRelativeRatioError(const Robot& a, const Robot& b) {
 TEST(RatioRegression, AloneGivesTheRatiosAndKeepsTheGeometry) {
   const Robot nominal = SeedNominal(), truth = SeedTruth();
   Robot identified;
-  const EstimationReport report = RatioRegressionEstimator().Estimate(nominal, SeedSweeps(nominal, truth, 0.0, 1), &identified);
+  const EstimationReport report =
+      RatioRegressionEstimator().Estimate(nominal, SeedSweeps(nominal, truth, 0.0, 1), &identified);
   EXPECT_LT(MaxRelativeRatioError(identified, truth), 1e-12);
   EXPECT_EQ(identified.model().Parameters(), nominal.model().Parameters());
   ASSERT_EQ(report.parameters.size(), 6u);

@@ -27,9 +27,8 @@ void RunMonteCarlo(const std::string& stddev_method, int runs, double noise, std
     for (const auto& report : reports) {
       for (const auto& p : report.parameters) {
         if (!p.free) continue;
-        const double truth_value = p.name.rfind("ratio_", 0) == 0
-                                       ? truth.drives->ratio[std::stoi(p.name.substr(6)) - 1]
-                                       : truth.model().Parameter(p.name);
+        const double truth_value = p.name.rfind("ratio_", 0) == 0 ? truth.drives->ratio[std::stoi(p.name.substr(6)) - 1]
+                                                                  : truth.model().Parameter(p.name);
         Sample& sample = (*out)[p.name];
         sample.error.push_back(p.value - truth_value);
         sample.stddev.push_back(p.stddev);
