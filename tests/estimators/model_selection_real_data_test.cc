@@ -102,9 +102,11 @@ TEST(ModelSelectionRealData, Ur10CampaignBToC) {
   const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
   double best = geometry.rms;
   for (int groups : {1, 2, 3, 4}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
-  std::printf("B -> C: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
-              "(geometry %.3f); coverage %.3f\n", selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3,
-              best * 1e3, selected.max * 1e3, geometry.max * 1e3, selected.coverage);
+  std::printf(
+      "B -> C: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+      "(geometry %.3f); coverage %.3f\n",
+      selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3, best * 1e3, selected.max * 1e3,
+      geometry.max * 1e3, selected.coverage);
   EXPECT_LE(selected.rms, 1.05 * best);
   EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
   EXPECT_LE(selected.max, 1.5 * geometry.max);

@@ -147,9 +147,10 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   const Dataset all = ReadDataset(TableDataset(c.series));
   const Robot nominal = Ur10WithTerms(22);
   Robot identified;
-  const EstimationReport report = Estimators()
-                                      .Create("least_squares", YAML::Load("{max_iterations: 200, select: true, prior: on}"))
-                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  const EstimationReport report =
+      Estimators()
+          .Create("least_squares", YAML::Load("{max_iterations: 200, select: true, prior: on}"))
+          ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
   std::string chosen;
   for (const auto& candidate : report.details.at("selection").at("candidates")) {
     if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
