@@ -42,10 +42,12 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   const double initial_cost = prep.initial.cost;
   Eigen::VectorXd x = prep.problem->InitialX();
   int iterations = 0;
+  int spent = 0;  // of the budget, since the last start
   // A run that used its budget at a point within 0.1 standard deviations of the minimum reached it.
   const auto run_from = [&]() {
-    MinimizerRun run = minimize(prep, weighting, std::max(0, budget - iterations), &x);
+    MinimizerRun run = minimize(prep, weighting, std::max(0, budget - spent), &x);
     iterations += run.iterations;
+    spent += run.iterations;
     if (run.status == EstimationStatus::kIterationLimit) {
       const NormalEquations ne = AccumulateNormalEquations(*prep.problem, x, weighting);
       if (WithinNoiseOfMinimum(ne, DataSigma(ne, prep.problem->num_parameters()))) {
@@ -61,7 +63,18 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // Where a bounded solver ended on a bound, the bound decided those parameters, not the data: the weak
   // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
   const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
-  if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) run = run_from();
+  if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) {
+    const Eigen::VectorXd restart = x;
+    run = run_from();
+    // Each held parameter went back to its start value while its partners stayed where they drifted with
+    // it (beta_1 and the base's pitch, by degrees): when what is left of the budget does not bring the fit
+    // back, it starts again from there with a budget of its own.
+    if (run.status == EstimationStatus::kIterationLimit) {
+      x = restart;
+      spent = 0;
+      run = run_from();
+    }
+  }
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
   if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
     for (int pass = 0; pass < 8; ++pass) {

@@ -29,6 +29,11 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
   std::vector<double> out(rows);
   for (int i = 0; i < rows; ++i) {
     problem.EvaluateRow(i, x, ws.get(), &r, &J);
+    // A row the model cannot evaluate (non-finite values) leaves J without its columns.
+    if (J.cols() != static_cast<Eigen::Index>(columns.size()) || !J.allFinite()) {
+      out[i] = NAN;
+      continue;
+    }
     for (int a = 0; a < q; ++a) Js.col(a) = J.col(used[a]).head<3>();
     const double variance = (Js * Cs * Js.transpose()).trace();
     out[i] = variance > 0.0 ? std::sqrt(variance) : (variance == 0.0 ? 0.0 : NAN);
@@ -41,6 +46,8 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
 // a Cholesky factorisation fails, yet they barely move the training poses' predictions.
 Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
   const Eigen::Index p = JtJ.rows();
+  // Non-finite entries (a fit driven to huge values) would send the eigensolver astray.
+  if (!JtJ.allFinite()) return Eigen::MatrixXd::Constant(p, p, NAN);
   Eigen::VectorXd d(p);
   for (Eigen::Index j = 0; j < p; ++j) d[j] = JtJ(j, j) > 0.0 ? 1.0 / std::sqrt(JtJ(j, j)) : 0.0;
   const Eigen::MatrixXd S = d.asDiagonal() * JtJ * d.asDiagonal();
@@ -54,7 +61,9 @@ Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
   return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
 }
 
+// Of the finite values: NaN breaks the ordering nth_element relies on (and can send it past the end).
 double Median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double e) { return !std::isfinite(e); }), v.end());
   if (v.empty()) return NAN;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
@@ -106,7 +115,12 @@ PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep,
   const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting);
   PredictionCovariance c;
   c.names = problem.ParameterNames();
+  if (p == 0) return c;  // every parameter held: nothing to propagate
   c.sigma = ne.num_residuals > p ? std::sqrt(ne.irls_squares / (ne.num_residuals - p)) : NAN;
+  if (!std::isfinite(c.sigma)) {
+    c.matrix = Eigen::MatrixXd::Constant(p, p, NAN);
+    return c;
+  }
   c.matrix = c.sigma * c.sigma * ScaledPseudoInverse(ne.JtJ);
   if (!c.matrix.allFinite()) return c;
   std::vector<int> columns(c.names.size());
