@@ -133,7 +133,8 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   Build();
   MeasureRegressors();
   AssignPriors();
-  for (const auto& [key, sd] : options.prior.sd) {
+  for (const auto& entry : options.prior.sd) {
+    const std::string& key = entry.first;  // a named reference: C++17 lambdas cannot capture bindings
     const auto& kinds = PriorOptions::Kinds();
     const bool known = std::find(kinds.begin(), kinds.end(), key) != kinds.end() ||
                        std::any_of(candidates_.begin(), candidates_.end(),
