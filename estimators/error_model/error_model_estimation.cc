@@ -64,6 +64,7 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
   const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
   if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) {
+    if (FinishIfNothingFree(prep, identified, report)) return;  // every parameter was weak
     const Eigen::VectorXd restart = x;
     run = run_from();
     // Each held parameter went back to its start value while its partners stayed where they drifted with

@@ -723,6 +723,7 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
       if (c >= 0) J.col(c) = Jb.col(a);
     }
   }
+  if (J.cols() == 0) return oriented ? 6 : 3;  // every parameter held: no columns to map
   if (oriented) {
     J.bottomRows<3>() = orientation_map * J.bottomRows<3>();
   } else {
