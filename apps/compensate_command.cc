@@ -27,6 +27,60 @@
 
 namespace kincal::app {
 
+namespace {
+
+// What the summary line reports of a program's results.
+struct Totals {
+  std::map<std::string, int> counts;  // by status
+  int branch_changes = 0;
+  double max_position = 0.0, max_orientation = 0.0;  // m, rad
+};
+
+// The output table (DESIGN.md "File contracts"), with the totals of its rows. Rows are appended to one
+// string with std::to_chars: the shortest text that reads back to the same double, without a stream
+// (20000 targets write 340000 numbers).
+std::string ResultsCsv(const std::vector<CompensationResult>& results, int n, bool drives, const Unit& angle,
+                       const Unit& length, Totals* totals) {
+  const double deg = M_PI / 180.0;
+  std::string out;
+  out.reserve(results.size() * (n * 32 + 96));
+  const auto append = [&out](auto value) {
+    char buffer[32];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+    (void)ec;
+    out.append(buffer, end);
+  };
+  for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
+  if (drives)
+    for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
+  out += "status,iterations,position_error_" + length.name + ",orientation_error_deg,seed_computed\n";
+  for (const CompensationResult& r : results) {
+    for (int i = 0; i < n; ++i) {
+      append(r.q_command[i] / angle.to_si);
+      out += ',';
+    }
+    for (int64_t e : r.encoders) {
+      append(e);
+      out += ',';
+    }
+    out += ToString(r.report.status);
+    out += ',';
+    append(r.report.iterations);
+    out += ',';
+    append(r.report.position_error / length.to_si);
+    out += ',';
+    append(r.report.orientation_error / deg);
+    out += r.report.seed_computed ? ",1\n" : ",0\n";
+    ++totals->counts[ToString(r.report.status)];
+    totals->branch_changes += r.report.branch_changed;
+    totals->max_position = std::max(totals->max_position, r.report.position_error);
+    totals->max_orientation = std::max(totals->max_orientation, r.report.orientation_error);
+  }
+  return out;
+}
+
+}  // namespace
+
 void AddCompensateCommand(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("compensate", "joints (and motor counts) that make the identified robot reach targets");
@@ -74,61 +128,23 @@ void AddCompensateCommand(CLI::App& app) {
     const std::vector<CompensationResult> results = CompensateProgram(*compensator, program);
     const auto t_solved = Clock::now();
 
-    const int n = nominal.dof();
-    const bool drives = identified.drives.has_value();
     const Unit angle = data.dof > 0 ? data.angle_unit : nominal.angle_unit;
     const Unit length = data.length_unit;
     const double deg = M_PI / 180.0;
-    std::map<std::string, int> counts;
-    int branch_changes = 0;
-    double max_position = 0.0, max_orientation = 0.0;
-    // Rows are appended to one string with std::to_chars: the shortest text that reads back to the same
-    // double, without a stream (20000 targets write 340000 numbers).
-    std::string out;
-    out.reserve(results.size() * (n * 32 + 96));
-    const auto append = [&out](auto value) {
-      char buffer[32];
-      const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
-      (void)ec;
-      out.append(buffer, end);
-    };
-    for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
-    if (drives)
-      for (int i = 1; i <= n; ++i) out += "enc" + std::to_string(i) + ",";
-    out += "status,iterations,position_error_" + length.name + ",orientation_error_deg,seed_computed\n";
-    for (const CompensationResult& r : results) {
-      for (int i = 0; i < n; ++i) {
-        append(r.q_command[i] / angle.to_si);
-        out += ',';
-      }
-      for (int64_t e : r.encoders) {
-        append(e);
-        out += ',';
-      }
-      out += ToString(r.report.status);
-      out += ',';
-      append(r.report.iterations);
-      out += ',';
-      append(r.report.position_error / length.to_si);
-      out += ',';
-      append(r.report.orientation_error / deg);
-      out += r.report.seed_computed ? ",1\n" : ",0\n";
-      ++counts[ToString(r.report.status)];
-      branch_changes += r.report.branch_changed;
-      max_position = std::max(max_position, r.report.position_error);
-      max_orientation = std::max(max_orientation, r.report.orientation_error);
-    }
+    Totals totals;
+    const std::string out = ResultsCsv(results, nominal.dof(), identified.drives.has_value(), angle, length, &totals);
     WriteFileAtomically(a->out, out);
     const auto t_written = Clock::now();
     std::cout << a->method << ": " << targets.size() << " targets (";
     bool first = true;
-    for (const auto& [status, count] : counts) {
+    for (const auto& [status, count] : totals.counts) {
       std::cout << (first ? "" : ", ") << count << " " << status;
       first = false;
     }
-    if (branch_changes) std::cout << "; " << branch_changes << " reached on another branch than the controller's";
-    std::cout << "), max position error " << max_position / length.to_si << " " << length.name
-              << ", max orientation error " << max_orientation / deg << " deg; wrote " << a->out << "\n"
+    if (totals.branch_changes)
+      std::cout << "; " << totals.branch_changes << " reached on another branch than the controller's";
+    std::cout << "), max position error " << totals.max_position / length.to_si << " " << length.name
+              << ", max orientation error " << totals.max_orientation / deg << " deg; wrote " << a->out << "\n"
               << "time: read " << seconds(t_start, t_read) << " s, prepare " << seconds(t_read, t_prepared)
               << " s, solve " << seconds(t_prepared, t_solved) << " s, write " << seconds(t_solved, t_written)
               << " s\n";

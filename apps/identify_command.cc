@@ -69,6 +69,48 @@ Robot RegisteredNominal(const Robot& nominal, const Dataset& train) {
   return nominal;
 }
 
+// The identified robot scored on the held-out rows (printed), against the nominal registered on the
+// training rows; the report's "validation".
+nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dataset& train, const Dataset& heldout,
+                        const EstimationReport& last) {
+  nlohmann::json json;
+  const PredictionErrors unregistered = EvaluatePredictions(nominal, nominal, heldout);
+  // "nominal" is the nominal geometry registered on the training rows (base, sessions, tool and
+  // markers fitted, as the studies' "before"): the measurement frame alone would make it metres off.
+  const Robot registered = RegisteredNominal(nominal, train);
+  const PredictionErrors before = EvaluatePredictions(nominal, registered, heldout);
+  const PredictionErrors after = EvaluatePredictions(nominal, identified, heldout);
+  const double mm = 1e3;
+  std::printf(
+      "held-out (%d rows): position error mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal registered on "
+      "the training rows: RMS %.4f mm, max %.4f mm)\n",
+      after.position_stats.count, after.position_stats.mean * mm, after.position_stats.rms * mm,
+      after.position_stats.max * mm, before.position_stats.rms * mm, before.position_stats.max * mm);
+  json = {{"unit", "mm"},
+          {"identified", StatsJson(after.position_stats, mm)},
+          {"nominal", StatsJson(before.position_stats, mm)},
+          {"nominal_unregistered", StatsJson(unregistered.position_stats, mm)}};
+  if (last.details.contains("prediction_covariance")) {
+    // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
+    const PredictionCovariance cov = PredictionCovariance::FromJson(last.details["prediction_covariance"]);
+    const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
+    const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
+    std::printf(
+        "held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
+        "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
+        check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
+        100.0 * check.coverage_1d);
+    json["uncertainty"] = check.ToJson();
+  }
+  if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
+    std::printf("held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
+                after.orientation_stats.count, after.orientation_stats.mean * 1e3, after.orientation_stats.rms * 1e3,
+                after.orientation_stats.max * 1e3);
+    json["orientation"] = {{"unit", "mrad"}, {"identified", StatsJson(after.orientation_stats, 1e3)}};
+  }
+  return json;
+}
+
 }  // namespace
 
 void AddIdentifyCommand(CLI::App& app) {
@@ -130,44 +172,7 @@ void AddIdentifyCommand(CLI::App& app) {
       if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
       json["stages"].push_back(r.ToJson());
     }
-    if (have_heldout) {
-      const PredictionErrors unregistered = EvaluatePredictions(nominal, nominal, heldout);
-      // "nominal" is the nominal geometry registered on the training rows (base, sessions, tool and
-      // markers fitted, as the studies' "before"): the measurement frame alone would make it metres off.
-      const Robot registered = RegisteredNominal(nominal, train);
-      const PredictionErrors before = EvaluatePredictions(nominal, registered, heldout);
-      const PredictionErrors after = EvaluatePredictions(nominal, identified, heldout);
-      const double mm = 1e3;
-      std::printf(
-          "held-out (%d rows): position error mean %.4f mm, RMS %.4f mm, max %.4f mm (nominal registered on "
-          "the training rows: RMS %.4f mm, max %.4f mm)\n",
-          after.position_stats.count, after.position_stats.mean * mm, after.position_stats.rms * mm,
-          after.position_stats.max * mm, before.position_stats.rms * mm, before.position_stats.max * mm);
-      json["validation"] = {{"unit", "mm"},
-                            {"identified", StatsJson(after.position_stats, mm)},
-                            {"nominal", StatsJson(before.position_stats, mm)},
-                            {"nominal_unregistered", StatsJson(unregistered.position_stats, mm)}};
-      if (reports.back().details.contains("prediction_covariance")) {
-        // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
-        const PredictionCovariance cov =
-            PredictionCovariance::FromJson(reports.back().details["prediction_covariance"]);
-        const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
-        const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
-        std::printf(
-            "held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
-            "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
-            check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
-            100.0 * check.coverage_1d);
-        json["validation"]["uncertainty"] = check.ToJson();
-      }
-      if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
-        std::printf(
-            "held-out (%d rows with orientation): orientation error mean %.4f mrad, RMS %.4f mrad, max %.4f mrad\n",
-            after.orientation_stats.count, after.orientation_stats.mean * 1e3, after.orientation_stats.rms * 1e3,
-            after.orientation_stats.max * 1e3);
-        json["validation"]["orientation"] = {{"unit", "mrad"}, {"identified", StatsJson(after.orientation_stats, 1e3)}};
-      }
-    }
+    if (have_heldout) json["validation"] = Validate(nominal, identified, train, heldout, reports.back());
     // Both outputs are prepared before either is written, and each is written atomically.
     const std::string robot_text = RobotToYaml(identified);
     if (!a->report.empty()) WriteFileAtomically(a->report, json.dump(2) + "\n");

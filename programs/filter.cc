@@ -5,6 +5,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "compensators/program.h"
 #include "framework/math.h"
 
 namespace kincal {
@@ -83,47 +84,50 @@ FilteredProgram ProgramFilter::Filter(const ProgramFormat& format, const std::st
   std::vector<double> values;
   const Eigen::Isometry3d T_meas_frame = controller_.model().base() * options_.T_base_frame;
   const Eigen::Isometry3d T_frame_meas = T_meas_frame.inverse();
-  Eigen::VectorXd previous_command, reference;  // where the arm comes from: commands, controller's joints
-  for (const ProgramTarget& target : targets) {
+  Eigen::VectorXd reference;  // the controller's joints at the previous target
+  const auto keep = [&](const ProgramTarget& target, const std::string& why) {
+    report.not_reached.push_back(path + ":" + std::to_string(target.line) + ": " + why);
+    out.commands.emplace_back();
+  };
+  // The goal of a target: the pose in the measurement frame and the controller's joints for it.
+  const auto build = [&](size_t i, CompensationTarget* goal) {
+    const ProgramTarget& target = targets[i];
     const bool pose = target.kind == ProgramTarget::Kind::kPose;
     (pose ? report.pose_targets : report.joint_targets)++;
-    const auto keep = [&](const std::string& why) {
-      report.not_reached.push_back(path + ":" + std::to_string(target.line) + ": " + why);
-      out.commands.emplace_back();
-    };
-    CompensationTarget goal;
-    goal.previous_command = previous_command;
-    if (pose) {
-      goal.T_meas_tool = T_meas_frame * target.T_frame_tool;
-      if (target.seed.size() != 0) {
-        goal.seed = target.seed;
-      } else {
-        const ConfigurationRules::Solution s = rules_->Solve(*ik_, goal.T_meas_tool, target.configuration, reference);
-        if (!s.found) {
-          keep(target.configuration.empty() ? "the controller does not reach the target inside its joint limits"
-                                            : "the controller has no solution on the branch its configuration names");
-          continue;
-        }
-        goal.seed = s.q;
-      }
-    } else {
-      goal.T_meas_tool = controller_.model().ForwardKinematics(
+    if (!pose) {
+      goal->T_meas_tool = controller_.model().ForwardKinematics(
           controller_.coupling.size() ? Eigen::VectorXd(controller_.coupling * target.q) : target.q);
-      goal.seed = target.q;
+      goal->seed = target.q;
+      return true;
     }
-    const CompensationResult r = compensator_->Compensate(goal);
+    goal->T_meas_tool = T_meas_frame * target.T_frame_tool;
+    if (target.seed.size() != 0) {
+      goal->seed = target.seed;
+      return true;
+    }
+    const ConfigurationRules::Solution s = rules_->Solve(*ik_, goal->T_meas_tool, target.configuration, reference);
+    if (!s.found) {
+      keep(target, target.configuration.empty()
+                       ? "the controller does not reach the target inside its joint limits"
+                       : "the controller has no solution on the branch its configuration names");
+      return false;
+    }
+    goal->seed = s.q;
+    return true;
+  };
+  // A target not reached is sent as written (its seed); a reached one as compensated, its numbers rewritten.
+  const auto take = [&](size_t i, const CompensationTarget& goal, const CompensationResult& r) -> Eigen::VectorXd {
+    const ProgramTarget& target = targets[i];
     reference = goal.seed;
     if (r.report.status != CompensationStatus::kConverged) {
-      keep(ToString(r.report.status) + ": " + r.report.message);
-      previous_command = goal.seed;
-      continue;
+      keep(target, ToString(r.report.status) + ": " + r.report.message);
+      return goal.seed;
     }
-    previous_command = r.q_command;
     report.branch_changed += r.report.branch_changed;
     report.max_position_error = std::max(report.max_position_error, r.report.position_error);
     report.max_orientation_error = std::max(report.max_orientation_error, r.report.orientation_error);
     std::vector<double> numbers;
-    if (pose) {
+    if (target.kind == ProgramTarget::Kind::kPose) {
       const Eigen::VectorXd q_model =
           controller_.coupling.size() ? Eigen::VectorXd(controller_.coupling * r.q_command) : r.q_command;
       const Eigen::Isometry3d T = T_frame_meas * controller_.model().ForwardKinematics(q_model);
@@ -137,7 +141,9 @@ FilteredProgram ProgramFilter::Filter(const ProgramFormat& format, const std::st
     values.insert(values.end(), numbers.begin(), numbers.end());
     out.commands.push_back(r.q_command);
     ++report.filtered;
-  }
+    return r.q_command;
+  };
+  RunProgram(*compensator_, targets.size(), build, take);
   out.text = ReplaceNumbers(text, spans, values, options_.keep_tolerance);
   return out;
 }

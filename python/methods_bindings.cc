@@ -218,6 +218,52 @@ py::list Entries(const R& registry) {
   return list;
 }
 
+// `predict`: where `robot` puts each row's marker, N x 3.
+Eigen::MatrixXd PredictRows(const Robot& robot, const Dataset& data, const Robot* nominal) {
+  const Robot& controller = ControllerOr(nominal, robot);
+  data.Validate(robot.dof());
+  CheckMarkers(robot, data);
+  const std::vector<Eigen::Vector3d> p = PredictMarkers(controller, robot, data);
+  Eigen::MatrixXd out(p.size(), 3);
+  for (size_t i = 0; i < p.size(); ++i) out.row(i) = p[i].transpose();
+  return out;
+}
+
+// `evaluate`: the errors of `robot` in predicting every row, with their statistics.
+py::dict EvaluateRows(const Robot& robot, const Dataset& data, const Robot* nominal) {
+  const Robot& controller = ControllerOr(nominal, robot);
+  data.Validate(robot.dof());
+  CheckMarkers(robot, data);
+  const PredictionErrors e = EvaluatePredictions(controller, robot, data);
+  py::dict d;
+  d["position"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.position.data(), e.position.size()));
+  d["orientation"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.orientation.data(), e.orientation.size()));
+  d["position_stats"] = Stats(e.position_stats);
+  d["orientation_stats"] = Stats(e.orientation_stats);
+  return d;
+}
+
+// `run_study`: a study file run into `out_path`; a summary dict.
+py::dict RunStudyFile(const py::object& path, const py::object& out_path, int threads, const std::string& shard) {
+  const Study study = ReadStudyFile(FsPath(path));
+  const std::string out = FsPath(out_path);
+  StudyRunOptions options;
+  ParseShard(shard, &options.shard_index, &options.shard_count);
+  options.threads = threads;
+  StudyRunSummary s;
+  {
+    py::gil_scoped_release release;
+    s = RunStudy(study, out, options);
+  }
+  py::dict d;
+  d["items_total"] = s.items_total;
+  d["items_run"] = s.items_run;
+  d["threads"] = s.threads;
+  d["seconds"] = s.seconds;
+  d["report"] = options.shard_count == 1 ? py::object(py::str(out + "/report.md")) : py::object(py::none());
+  return d;
+}
+
 }  // namespace
 
 void BindMethods(py::module_& m) {
@@ -246,65 +292,19 @@ SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per
 as a dict (for a pipeline, keyed by method name). Returns (identified robot, report dict): the last stage's
 report as `kincal identify --report` writes it (m, rad), with 'stages' for a pipeline and 'brief'.)");
 
-  m.def(
-      "predict",
-      [](const Robot& robot, const Dataset& data, const Robot* nominal) {
-        const Robot& controller = ControllerOr(nominal, robot);
-        data.Validate(robot.dof());
-        CheckMarkers(robot, data);
-        const std::vector<Eigen::Vector3d> p = PredictMarkers(controller, robot, data);
-        Eigen::MatrixXd out(p.size(), 3);
-        for (size_t i = 0; i < p.size(); ++i) out.row(i) = p[i].transpose();
-        return out;
-      },
-      py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
-      R"(Where `robot` puts each row's marker (N x 3, m), as `kincal predict`. `nominal`: the controller whose
+  m.def("predict", &PredictRows, py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
+        R"(Where `robot` puts each row's marker (N x 3, m), as `kincal predict`. `nominal`: the controller whose
 ratios turned commanded angles into motor counts (default: the robot itself).)");
 
-  m.def(
-      "evaluate",
-      [](const Robot& robot, const Dataset& data, const Robot* nominal) {
-        const Robot& controller = ControllerOr(nominal, robot);
-        data.Validate(robot.dof());
-        CheckMarkers(robot, data);
-        const PredictionErrors e = EvaluatePredictions(controller, robot, data);
-        py::dict d;
-        d["position"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.position.data(), e.position.size()));
-        d["orientation"] =
-            Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(e.orientation.data(), e.orientation.size()));
-        d["position_stats"] = Stats(e.position_stats);
-        d["orientation_stats"] = Stats(e.orientation_stats);
-        return d;
-      },
-      py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
-      "Errors of `robot` in predicting every row (m, rad) and their statistics (count, mean, rms, max, median).");
+  m.def("evaluate", &EvaluateRows, py::arg("robot"), py::arg("data"), py::arg("nominal") = nullptr,
+        "Errors of `robot` in predicting every row (m, rad) and their statistics (count, mean, rms, max, median).");
 
   m.def("_compensate", &Compensate, py::arg("nominal"), py::arg("identified"), py::arg("targets"), py::arg("method"),
         py::arg("options"), py::arg("seeds"), py::arg("from_q"));
 
-  m.def(
-      "run_study",
-      [](const py::object& path, const py::object& out_path, int threads, const std::string& shard) {
-        const Study study = ReadStudyFile(FsPath(path));
-        const std::string out = FsPath(out_path);
-        StudyRunOptions options;
-        ParseShard(shard, &options.shard_index, &options.shard_count);
-        options.threads = threads;
-        StudyRunSummary s;
-        {
-          py::gil_scoped_release release;
-          s = RunStudy(study, out, options);
-        }
-        py::dict d;
-        d["items_total"] = s.items_total;
-        d["items_run"] = s.items_run;
-        d["threads"] = s.threads;
-        d["seconds"] = s.seconds;
-        d["report"] = options.shard_count == 1 ? py::object(py::str(out + "/report.md")) : py::object(py::none());
-        return d;
-      },
-      py::arg("study"), py::arg("out"), py::kw_only(), py::arg("threads") = 0, py::arg("shard") = "1/1",
-      "Runs a study file (as `kincal study`): results, plots and report.md in `out`. Returns a summary dict.");
+  m.def("run_study", &RunStudyFile, py::arg("study"), py::arg("out"), py::kw_only(), py::arg("threads") = 0,
+        py::arg("shard") = "1/1",
+        "Runs a study file (as `kincal study`): results, plots and report.md in `out`. Returns a summary dict.");
 
   // compensate: targets as N x 3 positions or N x 4 x 4 poses; numpy reshapes them for the C++ side.
   py::exec(R"(

@@ -34,11 +34,8 @@ Eigen::Isometry3d Isometry(const Eigen::Matrix4d& M, const char* what) {
   return T;
 }
 
-}  // namespace
-
-void BindRobot(py::module_& m) {
-  py::class_<Robot> robot(m, "Robot", R"(A robot: geometry with named, maskable parameters, limits, markers,
-drives and joint level, as a robot file describes it. Everything in SI: metres and radians.)");
+// Kinematics: forward kinematics, frames, Jacobians, joint readings.
+void BindKinematics(py::class_<Robot>& robot) {
   robot
       .def(
           "fk",
@@ -84,8 +81,12 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
           },
           py::arg("readings"), py::arg("previous") = py::none(), py::arg("controller") = nullptr,
           "Actual joint angles for the controller's readings (coupling, drive ratios, joint errors of the move from "
-          "`previous`), robot/joint_readings.h.")
-      .def_property_readonly("dof", &Robot::dof)
+          "`previous`), robot/joint_readings.h.");
+}
+
+// Name, units and the model's parameters.
+void BindParameters(py::class_<Robot>& robot) {
+  robot.def_property_readonly("dof", &Robot::dof)
       .def_readwrite("name", &Robot::name)
       .def_property_readonly("convention", [](const Robot& r) { return r.model().convention(); })
       .def_property_readonly(
@@ -129,7 +130,12 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
           py::arg("name"), py::arg("value"))
       .def(
           "set_free", [](Robot& r, const std::string& name, bool free) { r.model().SetFree(name, free); },
-          py::arg("name"), py::arg("free") = true)
+          py::arg("name"), py::arg("free") = true);
+}
+
+// Base, tool, limits, markers; files and copies.
+void BindFramesAndFiles(py::class_<Robot>& robot) {
+  robot
       .def_property(
           "base", [](const Robot& r) { return Matrix(r.model().base()); },
           [](Robot& r, const Eigen::Matrix4d& T) { r.model().SetBase(Isometry(T, "base")); }, "T_meas_base, 4x4, m.")
@@ -168,6 +174,16 @@ drives and joint level, as a robot file describes it. Everything in SI: metres a
       .def("__repr__", [](const Robot& r) {
         return "<kincal.Robot '" + r.name + "' " + r.model().convention() + ", " + std::to_string(r.dof()) + " joints>";
       });
+}
+
+}  // namespace
+
+void BindRobot(py::module_& m) {
+  py::class_<Robot> robot(m, "Robot", R"(A robot: geometry with named, maskable parameters, limits, markers,
+drives and joint level, as a robot file describes it. Everything in SI: metres and radians.)");
+  BindKinematics(robot);
+  BindParameters(robot);
+  BindFramesAndFiles(robot);
 
   m.def(
       "load_robot", [](const py::object& path) { return ReadRobotFile(FsPath(path)); }, py::arg("path"),

@@ -176,34 +176,60 @@ FixedList<double, 8> TrigRoots(const std::complex<double>* f, int degree, double
   return out;
 }
 
-}  // namespace
+// The first equation is in length^2, the second in length: both are compared divided by those.
+constexpr double kNegligible = 1e-10;
 
-Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
-                  int* free_mask) {
-  Positions out;
-  const double kAB = A.w.dot(B.w);
-  const bool parallel = 1 - kAB * kAB <= 1e-12;
-  const double length = 1.0 + p.norm() + p0.norm();
-  // Points on A and B at their common perpendicular (so that d = 0 when they meet), unless that is far
-  // away (nearly parallel axes): the equations hold for any points, and far ones would cost precision.
-  if (!parallel) {
-    const Vector3d r = B.p - A.p;
-    const double s = (A.w.dot(r) - kAB * B.w.dot(r)) / (1 - kAB * kAB);
-    const double t = (kAB * A.w.dot(r) - B.w.dot(r)) / (1 - kAB * kAB);
-    if (std::abs(s) <= 1e3 * length && std::abs(t) <= 1e3 * length) {
-      A.p += s * A.w;
-      B.p += t * B.w;
-    }
+// alpha cos x + beta sin x + gamma = 0 (in units of `scale`): <= 2 angles into x, or every angle (*all).
+int CircleAngles(double alpha, double beta, double gamma, double scale, double* x, bool* all) {
+  *all = false;
+  const double r = std::hypot(alpha, beta);
+  if (r <= kNegligible * scale) {
+    *all = std::abs(gamma) <= kNegligible * scale;
+    return 0;
   }
-  const Vector3d d = B.p - A.p;
-  const double rho = (p - A.p).squaredNorm(), h = A.w.dot(p - A.p);
-  const Vector3d v = p0 - C.p;
-  const Vector3d U1 = v - C.w * C.w.dot(v), U2 = C.w.cross(v), U0 = C.w * C.w.dot(v) + C.p - B.p;
-  const double dwB = d.dot(B.w);
+  if (std::abs(gamma) > r * (1 + 1e-9)) return 0;
+  const double phi = std::atan2(beta, alpha), delta = std::acos(std::clamp(-gamma / r, -1.0, 1.0));
+  x[0] = phi + delta;
+  x[1] = phi - delta;
+  return delta > 1e-12 && delta < M_PI - 1e-12 ? 2 : 1;
+}
+
+// Pieper's two equations of the 3R problem (Solve3R), alpha_i(c) cos b + beta_i(c) sin b + gamma_i(c) = 0,
+// with A and B moved to their common perpendicular (so that d = 0 when they meet), unless that is far
+// away (nearly parallel axes): the equations hold for any points, and far ones would cost precision.
+struct PieperEquations {
   struct Coef {
     double a1, b1, g1, a2, b2, g2;
   };
-  const auto coef = [&](double cos_c, double sin_c) {
+  Screw A, B;
+  double kAB, length, rho, h, dwB;
+  bool parallel;
+  Vector3d d, U0, U1, U2;
+
+  PieperEquations(Screw a, Screw b, const Screw& C, const Vector3d& p0, const Vector3d& p) : A(a), B(b) {
+    kAB = A.w.dot(B.w);
+    parallel = 1 - kAB * kAB <= 1e-12;
+    length = 1.0 + p.norm() + p0.norm();
+    if (!parallel) {
+      const Vector3d r = B.p - A.p;
+      const double s = (A.w.dot(r) - kAB * B.w.dot(r)) / (1 - kAB * kAB);
+      const double t = (kAB * A.w.dot(r) - B.w.dot(r)) / (1 - kAB * kAB);
+      if (std::abs(s) <= 1e3 * length && std::abs(t) <= 1e3 * length) {
+        A.p += s * A.w;
+        B.p += t * B.w;
+      }
+    }
+    d = B.p - A.p;
+    rho = (p - A.p).squaredNorm();
+    h = A.w.dot(p - A.p);
+    const Vector3d v = p0 - C.p;
+    U1 = v - C.w * C.w.dot(v);
+    U2 = C.w.cross(v);
+    U0 = C.w * C.w.dot(v) + C.p - B.p;
+    dwB = d.dot(B.w);
+  }
+
+  Coef At(double cos_c, double sin_c) const {
     const Vector3d u = U1 * cos_c + U2 * sin_c + U0;
     const double uwB = B.w.dot(u);
     const Vector3d wxu = B.w.cross(u);
@@ -215,178 +241,211 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
     k.b2 = A.w.dot(wxu);
     k.g2 = kAB * uwB + A.w.dot(d) - h;
     return k;
-  };
-  // The first equation is in length^2, the second in length: both are compared divided by those.
-  constexpr double kNegligible = 1e-10;
+  }
+};
+
+// The roots c of the 3R problem and the equation(s) that give b for them (Solve3R).
+struct InnerAngles {
   FixedList<double, 8> roots;
   int b_from = 0;  // the equation(s) that give b: 0 both, 1 or 2 that one alone
-  const auto push_root = [&](double c) {
+  void Push(double c) {
     for (double r : roots) {
       if (std::abs(WrapAngle(r - c)) < 1e-12) return;
     }
     roots.Push(c);
-  };
-  const auto free_c = [&]() {
-    *free_mask |= 4;
-    push_root(free[2]);
-  };
-  // alpha cos x + beta sin x + gamma = 0 (in units of `scale`): <= 2 angles, or every angle (*all).
-  const auto circle = [&](double alpha, double beta, double gamma, double scale, double* x, bool* all) {
-    *all = false;
-    const double r = std::hypot(alpha, beta);
-    if (r <= kNegligible * scale) {
-      *all = std::abs(gamma) <= kNegligible * scale;
-      return 0;
-    }
-    if (std::abs(gamma) > r * (1 + 1e-9)) return 0;
-    const double phi = std::atan2(beta, alpha), delta = std::acos(std::clamp(-gamma / r, -1.0, 1.0));
-    x[0] = phi + delta;
-    x[1] = phi - delta;
-    return delta > 1e-12 && delta < M_PI - 1e-12 ? 2 : 1;
-  };
-  const auto eliminant_roots = [&]() {
-    const TrigTables& tables = Tables();
-    constexpr int kSamples = TrigTables::kSamples;
-    double samples[kSamples];
-    int largest = 0;
-    double magnitude = 0.0;  // of the terms of F, which cancel where F vanishes identically
-    for (int s = 0; s < kSamples; ++s) {
-      const Coef k = coef(tables.cos[s], tables.sin[s]);
-      const double x = k.b1 * k.g2 - k.b2 * k.g1, y = k.a2 * k.g1 - k.a1 * k.g2, D = k.a1 * k.b2 - k.a2 * k.b1;
-      samples[s] = x * x + y * y - D * D;
-      magnitude = std::max(magnitude, x * x + y * y + D * D);
-      if (std::abs(samples[s]) > std::abs(samples[largest])) largest = s;
-    }
-    std::complex<double> f[5];  // f[m], m = 0..4; f[-m] = conj(f[m])
-    double scale = 0.0;
-    for (int m = 0; m <= 4; ++m) {
-      double re = 0.0, im = 0.0;
-      for (int s = 0; s < kSamples; ++s) {
-        const int r = (m * s) % kSamples;  // e^{-2 pi i m s / 16}
-        re += samples[s] * tables.cos[r];
-        im -= samples[s] * tables.sin[r];
-      }
-      f[m] = std::complex<double>(re, im) / double(kSamples);
-      scale = std::max(scale, std::abs(f[m]));
-    }
-    if (scale <= 1e-12 * magnitude) {
-      // F vanishes identically (to rounding of its terms): every c has a solution.
-      free_c();
-      return;
-    }
-    int degree = 4;
-    while (degree > 0 && std::abs(f[degree]) <= 1e-11 * scale) --degree;
-    if (degree == 0) return;  // F is a constant other than 0: no solution
-    const FixedList<double, 8> raw = TrigRoots(f, degree, 2 * M_PI * largest / kSamples);
-    // F, dF/dc and d2F/dc2 from the Fourier series.
-    const auto evaluate = [&](double c, double* slope, double* curvature) {
-      const std::complex<double> e1 = std::polar(1.0, c);
-      std::complex<double> e = 1.0;
-      double value = f[0].real();
-      *slope = *curvature = 0.0;
-      for (int m = 1; m <= degree; ++m) {
-        e *= e1;
-        const std::complex<double> fe = f[m] * e;
-        value += 2.0 * fe.real();
-        *slope -= 2.0 * m * fe.imag();          // 2 Re(i m f_m e^{imc})
-        *curvature -= 2.0 * m * m * fe.real();  // 2 Re(-m^2 f_m e^{imc})
-      }
-      return value;
-    };
-    for (double c : raw) {
-      // Newton on F polishes the eigenvalue's angle; a step is kept only where it lowers |F|, since at a
-      // double root (F >= 0 touching zero, as where axes A and B meet) value and slope are both rounding
-      // noise and a full step can throw an accurate root away.
-      double slope = 0.0, curvature = 0.0;
-      double value = evaluate(c, &slope, &curvature);
-      for (int it = 0; it < 4 && value != 0.0; ++it) {
-        const double step = value / slope;
-        if (!std::isfinite(step) || std::abs(step) > 0.1) break;
-        double next_slope = 0.0, next_curvature = 0.0;
-        const double next = evaluate(c - step, &next_slope, &next_curvature);
-        if (!(std::abs(next) < std::abs(value))) break;
-        c -= step;
-        value = next;
-        slope = next_slope;
-        curvature = next_curvature;
-      }
-      // Newton on F stops about sqrt(eps) short of a double root (where two branches meet: a singular
-      // configuration, whose joints the polish on the model can then not correct; rounding of F, about
-      // 1e-16 of its terms' magnitude, splits it into two roots up to 1e-6 apart where a third root is
-      // near). The root of F' within 1e-4 is the root to full precision, if F is no larger there beyond
-      // that rounding. At a simple root any such move raises |F| by |F'| |step|, far above rounding,
-      // and is refused; so is merging two true roots whose |F| between them exceeds that rounding.
-      for (int it = 0; it < 3; ++it) {
-        const double step = slope / curvature;
-        if (!std::isfinite(step) || std::abs(step) > 1e-4 || step == 0.0) break;
-        double next_slope = 0.0, next_curvature = 0.0;
-        const double next = evaluate(c - step, &next_slope, &next_curvature);
-        if (!(std::abs(next) <= std::abs(value) + 1e-13 * magnitude)) break;
-        c -= step;
-        value = next;
-        slope = next_slope;
-        curvature = next_curvature;
-      }
-      bool duplicate = false;
-      for (double r : roots) duplicate = duplicate || std::abs(WrapAngle(r - c)) < 1e-7;
-      if (!duplicate) roots.Push(c);
-    }
-  };
-  if (parallel || d.norm() <= 1e-12 * length) {
-    // A and B meet (the shoulders of the IRB 120 and the Puma 560): turns about B keep the distance to
-    // the common point, so the first equation loses b and reads gamma1(c) = 0,
-    //     2 U0.U1 cos c + 2 U0.U2 sin c + |U1|^2 + |U0|^2 - rho = 0   (U1 _|_ U2, |U1| = |U2|).
-    // A and B parallel (the seed's arm with its flange axis vertical): turns about B keep the height along
-    // A, so the second equation loses b and reads gamma2(c) = 0,
-    //     kAB wB.U1 cos c + kAB wB.U2 sin c + kAB wB.U0 + wA.d - h = 0.
-    double x[2];
-    bool all = false;
-    const int count =
-        parallel ? circle(kAB * B.w.dot(U1), kAB * B.w.dot(U2), kAB * B.w.dot(U0) + A.w.dot(d) - h, length, x, &all)
-                 : circle(2 * U0.dot(U1), 2 * U0.dot(U2), U1.squaredNorm() + U0.squaredNorm() - rho, length * length, x,
-                          &all);
-    if (all) free_c();
-    for (int i = 0; i < count; ++i) push_root(x[i]);
-    // The other equation gives b: the one used for c has lost it (to within the rounding, or the small
-    // angle of nearly parallel axes, which would make b from it arbitrary).
-    b_from = parallel ? 1 : 2;
-  } else {
-    eliminant_roots();
   }
-  for (double c : roots) {
-    const Coef k = coef(std::cos(c), std::sin(c));
+  // Every c has a solution: the free joint's value, its bit (4) in *free_mask.
+  void Free(double c, int* free_mask) {
+    *free_mask |= 4;
+    Push(c);
+  }
+};
+
+// The Fourier coefficients f[0..4] of the eliminant F(c) (Solve3R) from its 16 samples; *magnitude: the
+// largest size of its terms (which cancel where F vanishes identically), *largest: the sample of largest
+// |F|. Returns the largest |f[m]|.
+double EliminantSeries(const PieperEquations& eq, std::complex<double>* f, double* magnitude, int* largest) {
+  const TrigTables& tables = Tables();
+  constexpr int kSamples = TrigTables::kSamples;
+  double samples[kSamples];
+  *largest = 0;
+  *magnitude = 0.0;
+  for (int s = 0; s < kSamples; ++s) {
+    const PieperEquations::Coef k = eq.At(tables.cos[s], tables.sin[s]);
+    const double x = k.b1 * k.g2 - k.b2 * k.g1, y = k.a2 * k.g1 - k.a1 * k.g2, D = k.a1 * k.b2 - k.a2 * k.b1;
+    samples[s] = x * x + y * y - D * D;
+    *magnitude = std::max(*magnitude, x * x + y * y + D * D);
+    if (std::abs(samples[s]) > std::abs(samples[*largest])) *largest = s;
+  }
+  double scale = 0.0;
+  for (int m = 0; m <= 4; ++m) {
+    double re = 0.0, im = 0.0;
+    for (int s = 0; s < kSamples; ++s) {
+      const int r = (m * s) % kSamples;  // e^{-2 pi i m s / 16}
+      re += samples[s] * tables.cos[r];
+      im -= samples[s] * tables.sin[r];
+    }
+    f[m] = std::complex<double>(re, im) / double(kSamples);
+    scale = std::max(scale, std::abs(f[m]));
+  }
+  return scale;
+}
+
+// F, dF/dc and d2F/dc2 of the Fourier series f[0..degree] (f[-m] = conj(f[m])) at c.
+double EvaluateSeries(const std::complex<double>* f, int degree, double c, double* slope, double* curvature) {
+  const std::complex<double> e1 = std::polar(1.0, c);
+  std::complex<double> e = 1.0;
+  double value = f[0].real();
+  *slope = *curvature = 0.0;
+  for (int m = 1; m <= degree; ++m) {
+    e *= e1;
+    const std::complex<double> fe = f[m] * e;
+    value += 2.0 * fe.real();
+    *slope -= 2.0 * m * fe.imag();          // 2 Re(i m f_m e^{imc})
+    *curvature -= 2.0 * m * m * fe.real();  // 2 Re(-m^2 f_m e^{imc})
+  }
+  return value;
+}
+
+// A root c of the eigenvalue solver polished on the series F.
+double PolishRoot(const std::complex<double>* f, int degree, double magnitude, double c) {
+  // Newton on F polishes the eigenvalue's angle; a step is kept only where it lowers |F|, since at a
+  // double root (F >= 0 touching zero, as where axes A and B meet) value and slope are both rounding
+  // noise and a full step can throw an accurate root away.
+  double slope = 0.0, curvature = 0.0;
+  double value = EvaluateSeries(f, degree, c, &slope, &curvature);
+  for (int it = 0; it < 4 && value != 0.0; ++it) {
+    const double step = value / slope;
+    if (!std::isfinite(step) || std::abs(step) > 0.1) break;
+    double next_slope = 0.0, next_curvature = 0.0;
+    const double next = EvaluateSeries(f, degree, c - step, &next_slope, &next_curvature);
+    if (!(std::abs(next) < std::abs(value))) break;
+    c -= step;
+    value = next;
+    slope = next_slope;
+    curvature = next_curvature;
+  }
+  // Newton on F stops about sqrt(eps) short of a double root (where two branches meet: a singular
+  // configuration, whose joints the polish on the model can then not correct; rounding of F, about
+  // 1e-16 of its terms' magnitude, splits it into two roots up to 1e-6 apart where a third root is
+  // near). The root of F' within 1e-4 is the root to full precision, if F is no larger there beyond
+  // that rounding. At a simple root any such move raises |F| by |F'| |step|, far above rounding,
+  // and is refused; so is merging two true roots whose |F| between them exceeds that rounding.
+  for (int it = 0; it < 3; ++it) {
+    const double step = slope / curvature;
+    if (!std::isfinite(step) || std::abs(step) > 1e-4 || step == 0.0) break;
+    double next_slope = 0.0, next_curvature = 0.0;
+    const double next = EvaluateSeries(f, degree, c - step, &next_slope, &next_curvature);
+    if (!(std::abs(next) <= std::abs(value) + 1e-13 * magnitude)) break;
+    c -= step;
+    value = next;
+    slope = next_slope;
+    curvature = next_curvature;
+  }
+  return c;
+}
+
+// The general case: the roots of the eliminant F(c), polished, into *angles.
+void EliminantRoots(const PieperEquations& eq, double free_c, InnerAngles* angles, int* free_mask) {
+  std::complex<double> f[5];  // f[m], m = 0..4; f[-m] = conj(f[m])
+  double magnitude = 0.0;
+  int largest = 0;
+  const double scale = EliminantSeries(eq, f, &magnitude, &largest);
+  if (scale <= 1e-12 * magnitude) {
+    // F vanishes identically (to rounding of its terms): every c has a solution.
+    angles->Free(free_c, free_mask);
+    return;
+  }
+  int degree = 4;
+  while (degree > 0 && std::abs(f[degree]) <= 1e-11 * scale) --degree;
+  if (degree == 0) return;  // F is a constant other than 0: no solution
+  const FixedList<double, 8> raw = TrigRoots(f, degree, 2 * M_PI * largest / TrigTables::kSamples);
+  for (double c : raw) {
+    c = PolishRoot(f, degree, magnitude, c);
+    bool duplicate = false;
+    for (double r : angles->roots) duplicate = duplicate || std::abs(WrapAngle(r - c)) < 1e-7;
+    if (!duplicate) angles->roots.Push(c);
+  }
+}
+
+// A and B meet (the shoulders of the IRB 120 and the Puma 560): turns about B keep the distance to
+// the common point, so the first equation loses b and reads gamma1(c) = 0,
+//     2 U0.U1 cos c + 2 U0.U2 sin c + |U1|^2 + |U0|^2 - rho = 0   (U1 _|_ U2, |U1| = |U2|).
+// A and B parallel (the seed's arm with its flange axis vertical): turns about B keep the height along
+// A, so the second equation loses b and reads gamma2(c) = 0,
+//     kAB wB.U1 cos c + kAB wB.U2 sin c + kAB wB.U0 + wA.d - h = 0.
+void SingleEquationRoots(const PieperEquations& eq, double free_c, InnerAngles* angles, int* free_mask) {
+  const Screw &A = eq.A, &B = eq.B;
+  const Vector3d &U0 = eq.U0, &U1 = eq.U1, &U2 = eq.U2;
+  const double length = eq.length;
+  double x[2];
+  bool all = false;
+  const int count = eq.parallel ? CircleAngles(eq.kAB * B.w.dot(U1), eq.kAB * B.w.dot(U2),
+                                               eq.kAB * B.w.dot(U0) + A.w.dot(eq.d) - eq.h, length, x, &all)
+                                : CircleAngles(2 * U0.dot(U1), 2 * U0.dot(U2),
+                                               U1.squaredNorm() + U0.squaredNorm() - eq.rho, length * length, x, &all);
+  if (all) angles->Free(free_c, free_mask);
+  for (int i = 0; i < count; ++i) angles->Push(x[i]);
+  // The other equation gives b: the one used for c has lost it (to within the rounding, or the small
+  // angle of nearly parallel axes, which would make b from it arbitrary).
+  angles->b_from = eq.parallel ? 1 : 2;
+}
+
+// The angles b for one root c (<= 2); false where no b solves both equations.
+bool OuterAngles(const PieperEquations::Coef& k, double length, int b_from, double free_b, double* bs, int* count,
+                 int* free_mask) {
+  *count = 0;
+  const double L2 = length * length;
+  const double n1 = std::hypot(k.a1, k.b1) / L2, n2 = std::hypot(k.a2, k.b2) / length;
+  const double D = (k.a1 * k.b2 - k.a2 * k.b1) / (L2 * length);
+  if (b_from == 0 && n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
+    bs[(*count)++] = std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D);
+    return true;
+  }
+  // The two equations are dependent in (cos b, sin b), or one has lost b: use the stronger one.
+  bool all = false;
+  const bool first = b_from == 0 ? n1 >= n2 : b_from == 1;
+  *count = first ? CircleAngles(k.a1 / L2, k.b1 / L2, k.g1 / L2, 1.0, bs, &all)
+                 : CircleAngles(k.a2 / length, k.b2 / length, k.g2 / length, 1.0, bs, &all);
+  if (all) {
+    // Neither equation depends on b: E_C(c) p0 is on B (or A and B are one line), every b does if
+    // both hold.
+    if (std::abs(k.g1) > kNegligible * L2 || std::abs(k.g2) > kNegligible * length) return false;
+    *free_mask |= 2;
+    bs[(*count)++] = free_b;
+  }
+  return true;
+}
+
+}  // namespace
+
+Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
+                  int* free_mask) {
+  const PieperEquations eq(A, B, C, p0, p);
+  InnerAngles angles;
+  if (eq.parallel || eq.d.norm() <= 1e-12 * eq.length) {
+    SingleEquationRoots(eq, free[2], &angles, free_mask);
+  } else {
+    EliminantRoots(eq, free[2], &angles, free_mask);
+  }
+  Positions out;
+  for (double c : angles.roots) {
     double bs[2];
     int count = 0;
-    const double L2 = length * length;
-    const double n1 = std::hypot(k.a1, k.b1) / L2, n2 = std::hypot(k.a2, k.b2) / length;
-    const double D = (k.a1 * k.b2 - k.a2 * k.b1) / (L2 * length);
-    if (b_from == 0 && n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
-      bs[count++] = std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D);
-    } else {
-      // The two equations are dependent in (cos b, sin b), or one has lost b: use the stronger one.
-      bool all = false;
-      const bool first = b_from == 0 ? n1 >= n2 : b_from == 1;
-      count = first ? circle(k.a1 / L2, k.b1 / L2, k.g1 / L2, 1.0, bs, &all)
-                    : circle(k.a2 / length, k.b2 / length, k.g2 / length, 1.0, bs, &all);
-      if (all) {
-        // Neither equation depends on b: E_C(c) p0 is on B (or A and B are one line), every b does if
-        // both hold.
-        if (std::abs(k.g1) > kNegligible * L2 || std::abs(k.g2) > kNegligible * length) continue;
-        *free_mask |= 2;
-        bs[count++] = free[1];
-      }
+    if (!OuterAngles(eq.At(std::cos(c), std::sin(c)), eq.length, angles.b_from, free[1], bs, &count, free_mask)) {
+      continue;
     }
     for (int i = 0; i < count; ++i) {
       const double b = bs[i];
-      const Vector3d fp = Exp(B, b) * (Exp(C, c) * p0);
+      const Vector3d fp = Exp(eq.B, b) * (Exp(C, c) * p0);
       bool free_a = false;
-      double a = Subproblem1(A.w, fp - A.p, p - A.p, &free_a);
+      double a = Subproblem1(eq.A.w, fp - eq.A.p, p - eq.A.p, &free_a);
       if (free_a) {
         *free_mask |= 1;
         a = free[0];
       }
-      const Vector3d reached = Exp(A, a) * fp;
-      if ((reached - p).norm() < 1e-4 * length) out.Push(Vector3d(a, b, c));
+      const Vector3d reached = Exp(eq.A, a) * fp;
+      if ((reached - p).norm() < 1e-4 * eq.length) out.Push(Vector3d(a, b, c));
     }
   }
   return out;

@@ -215,23 +215,25 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
   }
 }
 
-void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const Vector6d& free, BranchList* out,
-                                                      int* free_mask) const {
-  const Screw &X = screws[0], &P1 = screws[1], &P2 = screws[2], &P3 = screws[3], &Y = screws[4], &Z = screws[5];
-  const Vector3d& w = P1.w;
-  const auto flat = [&](const Vector3d& x) { return Vector3d(x - w * w.dot(x)); };
-  // The elbow takes the point of axis P3 (at s, distance r2 from axis P2) to a point at distance r1 from
-  // axis P1: reachable for |dist - r2| <= r1 <= dist + r2.
-  const Vector3d c1 = flat(P1.p), c2 = flat(P2.p);
-  const Vector3d dv = c2 - c1;
-  const double dist = dv.norm(), r2 = flat(P3.p - P2.p).norm();
-  if (dist < 1e-12) return;  // P1 and P2 in line: not a closed-form arm (Detect)
+namespace {
+
+// The planar triple of three parallel axes P1, P2, P3 (direction w): an elbow that takes the point of
+// axis P3 (at distance r2 from axis P2) to a point at distance r1 from axis P1, reachable for
+// |dist - r2| <= r1 <= dist + r2 (dist: between axes P1 and P2).
+struct PlanarElbow {
+  Vector3d w, c1, c2, dv;
+  double dist, r2;
+
+  PlanarElbow(const Screw& P1, const Screw& P2, const Screw& P3)
+      : w(P1.w), c1(Flat(P1.p)), c2(Flat(P2.p)), dv(c2 - c1), dist(dv.norm()), r2(Flat(P3.p - P2.p).norm()) {}
+  Vector3d Flat(const Vector3d& x) const { return Vector3d(x - w * w.dot(x)); }
+
   // Where the wrist is singular, the free angle x of screw S moves that point on the circle
   // t(x) = Q E_S(-x) g, in a plane across w: |flat(t) - c1|^2 = K + alpha cos x + beta sin x. The angle
   // closest to `reference` that keeps it within reach (the reference itself, else an edge of the arc).
-  const auto reachable_free_angle = [&](const Isometry3d& Q, const Screw& S, const Vector3d& g, double reference) {
+  double ReachableFreeAngle(const Isometry3d& Q, const Screw& S, const Vector3d& g, double reference) const {
     const Vector3d on = S.p + S.w * S.w.dot(g - S.p), gp = g - on;
-    const Vector3d o = flat(Q * on) - c1, U = flat(Q.linear() * gp), V = flat(Q.linear() * S.w.cross(gp));
+    const Vector3d o = Flat(Q * on) - c1, U = Flat(Q.linear() * gp), V = Flat(Q.linear() * S.w.cross(gp));
     const double K = o.squaredNorm() + U.squaredNorm(), alpha = 2 * o.dot(U), beta = -2 * o.dot(V);
     const double low = (dist - r2) * (dist - r2), high = (dist + r2) * (dist + r2), tolerance = 1e-12 * high;
     const auto reachable = [&](double x) {
@@ -253,25 +255,43 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
       }
     }
     return best;
-  };
-  // The planar triple keeps heights along w: w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u.
+  }
+};
+
+// The lone joint X of three parallel axes (direction w) whose pair meets at `center`: the planar triple
+// keeps heights along w, w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u. <= 2 angles into as; a shoulder
+// singularity (the pair's point on axis X, the same height for every a) gives `free_a` and sets bit 0.
+int ShoulderAngles(const Screw& X, const Vector3d& w, const Isometry3d& M, const Vector3d& center, double free_a,
+                   double* as, int* free_mask) {
   const Vector3d m = M * center - X.p;
   const double A = w.dot(m - X.w * X.w.dot(m)), B = -w.dot(X.w.cross(m));
   const double C = w.dot(center - X.p) - w.dot(X.w) * X.w.dot(m);
   const double r = std::hypot(A, B), length = 1.0 + m.norm() + center.norm();
-  double as[2];
   int count = 0;
   if (r <= 1e-10 * length) {
-    // The pair's point on axis X (a shoulder singularity): its height is the same for every a.
-    if (std::abs(C) > 1e-10 * length) return;
+    if (std::abs(C) > 1e-10 * length) return 0;
     *free_mask |= 1;
-    as[count++] = free[0];
+    as[count++] = free_a;
   } else {
-    if (std::abs(C) > r * (1 + 1e-9)) return;
+    if (std::abs(C) > r * (1 + 1e-9)) return 0;
     const double phi = std::atan2(B, A), delta = std::acos(std::clamp(C / r, -1.0, 1.0));
     as[count++] = phi + delta;
     if (delta > 1e-12 && delta < M_PI - 1e-12) as[count++] = phi - delta;
   }
+  return count;
+}
+
+}  // namespace
+
+void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const Vector6d& free, BranchList* out,
+                                                      int* free_mask) const {
+  const Screw &X = screws[0], &P1 = screws[1], &P2 = screws[2], &P3 = screws[3], &Y = screws[4], &Z = screws[5];
+  const PlanarElbow elbow(P1, P2, P3);
+  const Vector3d &w = elbow.w, &c1 = elbow.c1, &c2 = elbow.c2, &dv = elbow.dv;
+  const double dist = elbow.dist, r2 = elbow.r2;
+  if (dist < 1e-12) return;  // P1 and P2 in line: not a closed-form arm (Detect)
+  double as[2];
+  const int count = ShoulderAngles(X, w, M, center, free[0], as, free_mask);
   for (int i = 0; i < count; ++i) {
     const double a = as[i];
     // The triple keeps w: R_Y(y) R_Z(z) (R_M^T R_X(a) w) = w; y is free where w lies on Y (the wrist
@@ -286,14 +306,14 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
       // plane of the planar triple; only where that point is within the elbow's reach does it give a
       // solution, possibly at one angle alone (the elbow stretched there).
       if (pairs.free[pair] & 2) {
-        z = reachable_free_angle(Exp(X, -a) * M, Z, Exp(Y, -y) * P3.p, free[5]);
+        z = elbow.ReachableFreeAngle(Exp(X, -a) * M, Z, Exp(Y, -y) * P3.p, free[5]);
       } else if (pairs.free[pair] & 1) {
-        y = reachable_free_angle(Exp(X, -a) * M * Exp(Z, -z), Y, P3.p, free[4]);
+        y = elbow.ReachableFreeAngle(Exp(X, -a) * M * Exp(Z, -z), Y, P3.p, free[4]);
       }
       const Isometry3d P = Exp(X, -a) * M * Exp(Z, -z) * Exp(Y, -y);
       // Elbow: the point of axis P3 goes from s to t by turns about P2 then P1 (circle intersection).
       const Vector3d s = P3.p, t = P * P3.p;
-      const double r1 = flat(t - P1.p).norm();
+      const double r1 = elbow.Flat(t - P1.p).norm();
       const double along = (r1 * r1 - r2 * r2 + dist * dist) / (2 * dist);
       double h2 = r1 * r1 - along * along;
       if (h2 < -1e-9 * (r1 * r1 + 1e-12)) continue;

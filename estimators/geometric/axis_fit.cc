@@ -82,53 +82,51 @@ Line Step(const Line& line, const Eigen::VectorXd& delta, const Eigen::Vector3d&
   return next;
 }
 
-}  // namespace
-
-ArcFit FitAxis(const std::vector<std::vector<Eigen::Vector3d>>& points, const std::vector<double>& x,
-               const ArcFitOptions& options) {
-  const int M = static_cast<int>(points.size());
-  if (M == 0) throw std::invalid_argument("axis fit: no markers");
-  if (M == 1) return FitArc(points[0], x, options);
-  const int m = static_cast<int>(x.size());
-
-  // Start: each marker alone, axes brought to one sign, weighted by radius^2 (how well an arc shows its
-  // axis' direction grows with its radius); the line through the mean of the circles' centres.
-  std::vector<ArcFit> alone;
+// Start: each marker alone (into *alone), axes brought to one sign, weighted by radius^2 (how well an
+// arc shows its axis' direction grows with its radius); the line through the mean of the circles' centres.
+Line StartLine(const std::vector<std::vector<Eigen::Vector3d>>& points, const std::vector<double>& x,
+               const ArcFitOptions& options, std::vector<ArcFit>* alone) {
+  const int M = static_cast<int>(points.size()), m = static_cast<int>(x.size());
   for (int i = 0; i < M; ++i) {
     if (static_cast<int>(points[i].size()) != m) throw std::logic_error("axis fit: every marker needs every stop");
     try {
-      alone.push_back(FitArc(points[i], x, options));
+      alone->push_back(FitArc(points[i], x, options));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("marker " + std::to_string(i + 1) + " of " + std::to_string(M) + ": " + e.what());
     }
   }
   Eigen::Vector3d direction = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
-  for (const ArcFit& f : alone) {
-    const double sign = f.axis.dot(alone[0].axis) < 0.0 ? -1.0 : 1.0;
+  for (const ArcFit& f : *alone) {
+    const double sign = f.axis.dot((*alone)[0].axis) < 0.0 ? -1.0 : 1.0;
     direction += sign * f.radius * f.radius * f.axis;
     centre += f.center / M;
   }
   Line line;
   line.direction = direction.normalized();
   line.point = centre;
-  for (const ArcFit& f : alone) {
+  for (const ArcFit& f : *alone) {
     line.radius.push_back(f.radius);
     line.height.push_back((f.center - centre).dot(line.direction));
   }
+  return line;
+}
 
-  // Refine: Levenberg-Marquardt, to rounding level.
-  Eigen::VectorXd r = Residuals(points, line);
-  double cost = r.squaredNorm();
+// Refine: Levenberg-Marquardt, to rounding level. *r: the residuals of the line returned.
+Line Refine(const std::vector<std::vector<Eigen::Vector3d>>& points, Line line, int max_iterations, Eigen::VectorXd* r,
+            int* iterations, bool* converged) {
+  const int M = static_cast<int>(points.size());
+  *r = Residuals(points, line);
+  double cost = r->squaredNorm();
   double lambda = 1e-9;
-  int iterations = 0;
-  bool converged = false;
-  while (iterations < options.max_iterations && !converged) {
-    ++iterations;
+  *iterations = 0;
+  *converged = false;
+  while (*iterations < max_iterations && !*converged) {
+    ++*iterations;
     Eigen::Vector3d b1, b2;
     Perpendiculars(line.direction, &b1, &b2);
     const Eigen::MatrixXd J = Jacobian(points, line, b1, b2);
     const Eigen::MatrixXd JtJ = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
+    const Eigen::VectorXd g = J.transpose() * *r;
     bool accepted = false;
     for (int tries = 0; tries < 30 && !accepted; ++tries) {
       Eigen::MatrixXd A = JtJ;
@@ -141,46 +139,72 @@ ArcFit FitAxis(const std::vector<std::vector<Eigen::Vector3d>>& points, const st
         accepted = true;
         // At rounding level: the step no longer changes the line (relative to its size).
         const double scale = 1.0 + line.point.norm();
-        converged = delta.head<2>().norm() < 1e-15 * scale && delta.segment<2>(2).norm() < 1e-15 &&
-                    delta.tail(2 * M).lpNorm<Eigen::Infinity>() < 1e-15 * scale;
-        converged = converged || cost - cost_next <= 1e-28 * (1.0 + cost);
+        *converged = delta.head<2>().norm() < 1e-15 * scale && delta.segment<2>(2).norm() < 1e-15 &&
+                     delta.tail(2 * M).lpNorm<Eigen::Infinity>() < 1e-15 * scale;
+        *converged = *converged || cost - cost_next <= 1e-28 * (1.0 + cost);
         line = next;
-        r = r_next;
+        *r = r_next;
         cost = cost_next;
         lambda = std::max(lambda / 10.0, 1e-15);
       } else {
         lambda *= 10.0;
       }
     }
-    if (!accepted) converged = true;  // no step lowers the cost: at the minimum to rounding
+    if (!accepted) *converged = true;  // no step lowers the cost: at the minimum to rounding
   }
+  return line;
+}
 
-  // Angles about the common axis, one in-plane frame for every marker.
-  ArcFit fit;
-  Eigen::Vector3d e1 = alone[0].e1 - alone[0].e1.dot(line.direction) * line.direction;
-  if (e1.norm() < 1e-6) Perpendiculars(line.direction, &e1, &fit.e2);
-  fit.e1 = e1.normalized();
-  fit.e2 = line.direction.cross(fit.e1);
-  fit.axis = line.direction;
+// Angles about the common axis, one in-plane frame (fit->e1, e2) for every marker, signed and unwrapped
+// (the axis and heights turned over where the markers turn the other way), and their line in x.
+AngleLine FitAngles(const std::vector<std::vector<Eigen::Vector3d>>& points, const std::vector<double>& x,
+                    const Eigen::Vector3d& e1_start, Line* line, ArcFit* fit,
+                    std::vector<std::vector<double>>* angles) {
+  const int M = static_cast<int>(points.size()), m = static_cast<int>(x.size());
+  Eigen::Vector3d e1 = e1_start - e1_start.dot(line->direction) * line->direction;
+  if (e1.norm() < 1e-6) Perpendiculars(line->direction, &e1, &fit->e2);
+  fit->e1 = e1.normalized();
+  fit->e2 = line->direction.cross(fit->e1);
+  fit->axis = line->direction;
   std::vector<std::vector<double>> raw(M, std::vector<double>(m));
   std::vector<double> weights(M);
   for (int i = 0; i < M; ++i) {
-    weights[i] = line.radius[i] * line.radius[i];
+    weights[i] = line->radius[i] * line->radius[i];
     for (int k = 0; k < m; ++k) {
-      const Eigen::Vector3d d = points[i][k] - line.point;
-      raw[i][k] = std::atan2(d.dot(fit.e2), d.dot(fit.e1));
+      const Eigen::Vector3d d = points[i][k] - line->point;
+      raw[i][k] = std::atan2(d.dot(fit->e2), d.dot(fit->e1));
     }
   }
-  std::vector<std::vector<double>> angles;
-  if (SignAndUnwrap(raw, x, weights, &angles) < 0) {
-    fit.axis = -fit.axis;
-    fit.e2 = -fit.e2;
-    for (double& h : line.height) h = -h;
+  if (SignAndUnwrap(raw, x, weights, angles) < 0) {
+    fit->axis = -fit->axis;
+    fit->e2 = -fit->e2;
+    for (double& h : line->height) h = -h;
   }
-  const AngleLine angle_line = FitAngleLine(angles, x, weights);
+  const AngleLine angle_line = FitAngleLine(*angles, x, weights);
   if (!(angle_line.slope > 0.0) || !std::isfinite(angle_line.slope)) {
     throw std::invalid_argument("the markers do not turn about the fitted axis with the joint's angle");
   }
+  return angle_line;
+}
+
+}  // namespace
+
+ArcFit FitAxis(const std::vector<std::vector<Eigen::Vector3d>>& points, const std::vector<double>& x,
+               const ArcFitOptions& options) {
+  const int M = static_cast<int>(points.size());
+  if (M == 0) throw std::invalid_argument("axis fit: no markers");
+  if (M == 1) return FitArc(points[0], x, options);
+  const int m = static_cast<int>(x.size());
+  std::vector<ArcFit> alone;
+  Line line = StartLine(points, x, options, &alone);
+  Eigen::VectorXd r;
+  int iterations = 0;
+  bool converged = false;
+  line = Refine(points, line, options.max_iterations, &r, &iterations, &converged);
+
+  ArcFit fit;
+  std::vector<std::vector<double>> angles;
+  const AngleLine angle_line = FitAngles(points, x, alone[0].e1, &line, &fit, &angles);
   fit.angle_slope = angle_line.slope;
 
   double axial2 = 0.0, radial2 = 0.0, tangential2 = 0.0;
