@@ -63,6 +63,40 @@ Vector3d Across(const Vector3d& w) {
   return w.cross(t).normalized();
 }
 
+int PolynomialRoots(const double* P, int degree, std::complex<double>* roots) {
+  const int N = degree;
+  if (N < 1 || !(P[N] != 0.0) || !std::isfinite(P[N])) return 0;
+  // Start on a circle of Fujiwara's bound on the roots' size, turned off the real axis (a real
+  // polynomial's roots are symmetric about it, and starts on it would stay on it).
+  double radius = 0.0;
+  for (int k = 0; k < N; ++k) radius = std::max(radius, std::pow(std::abs(P[k] / P[N]), 1.0 / (N - k)));
+  radius = radius > 0.0 && std::isfinite(radius) ? 2.0 * radius : 1.0;
+  for (int i = 0; i < N; ++i) roots[i] = std::polar(radius, 2.0 * M_PI * i / N + 0.4);
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    double largest_step = 0.0;
+    for (int i = 0; i < N; ++i) {
+      const std::complex<double> z = roots[i];
+      std::complex<double> p = P[N], slope = 0.0;  // Horner: P(z) and P'(z)
+      for (int k = N - 1; k >= 0; --k) {
+        slope = slope * z + p;
+        p = p * z + P[k];
+      }
+      if (p == 0.0) continue;
+      const std::complex<double> newton = p / slope;
+      std::complex<double> repulsion = 0.0;
+      for (int j = 0; j < N; ++j) {
+        if (j != i) repulsion += 1.0 / (z - roots[j]);
+      }
+      const std::complex<double> step = newton / (1.0 - newton * repulsion);
+      if (!std::isfinite(step.real()) || !std::isfinite(step.imag())) continue;
+      roots[i] -= step;
+      largest_step = std::max(largest_step, std::abs(step) / std::max(1.0, std::abs(roots[i])));
+    }
+    if (largest_step <= 1e-15) break;
+  }
+  return N;
+}
+
 namespace {
 
 // cos and sin of the 16 sample angles 2 pi s / 16, and the half-angle expansions
@@ -97,26 +131,6 @@ const TrigTables& Tables() {
   return tables;
 }
 
-// The roots z = e^{ic} (within 2 % of the unit circle) of z^degree F(z), from the complex companion
-// matrix: the fallback of TrigRoots when its real Schur form does not converge.
-FixedList<double, 8> ComplexCompanionAngles(const std::complex<double>* f, int degree) {
-  const int N = 2 * degree;
-  const auto coefficient = [&](int j) {
-    const int m = j - degree;
-    return m >= 0 ? f[m] : std::conj(f[-m]);
-  };
-  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(N, N);
-  const std::complex<double> lead = coefficient(N);
-  for (int j = 0; j < N; ++j) companion(0, N - 1 - j) = -coefficient(j) / lead;
-  for (int j = 1; j < N; ++j) companion(j, j - 1) = 1.0;
-  const Eigen::VectorXcd z = Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(companion, false).eigenvalues();
-  FixedList<double, 8> out;
-  for (int j = 0; j < N; ++j) {
-    if (std::isfinite(z[j].real()) && std::abs(std::abs(z[j]) - 1.0) <= 2e-2) out.Push(std::arg(z[j]));
-  }
-  return out;
-}
-
 // The real roots c of the trigonometric polynomial F(c) = f0 + 2 Re sum_{m=1}^{degree} f_m e^{imc}, and
 // the near-real ones (z = e^{ic} within 2 % of the unit circle, so that a pose just outside a fold still
 // gets its nearest candidates; the callers check every candidate), unpolished.
@@ -124,7 +138,8 @@ FixedList<double, 8> ComplexCompanionAngles(const std::complex<double>* f, int d
 // leading coefficient is F(c0 + pi): c0 + pi is the sample where |F| is largest, so P keeps its full
 // degree and no root hides at t = infinity. Its roots are the eigenvalues of the companion matrix,
 // already upper Hessenberg: a real Schur form of at most 8 x 8 of fixed capacity (the complex companion
-// of z^degree F(z) in a dynamic matrix took about 3 times as many instructions).
+// of z^degree F(z) in a dynamic matrix took about 3 times as many instructions). Where that form does not
+// converge, PolynomialRoots.
 FixedList<double, 8> TrigRoots(const std::complex<double>* f, int degree, double c_max) {
   const TrigTables& tables = Tables();
   const int N = 2 * degree;
@@ -140,8 +155,6 @@ FixedList<double, 8> TrigRoots(const std::complex<double>* f, int degree, double
   for (int j = 1; j < N; ++j) H(j, j - 1) = 1.0;
   Eigen::RealSchur<Matrix8> schur(N);
   schur.computeFromHessenberg(H, H, false);
-  if (schur.info() != Eigen::Success) return ComplexCompanionAngles(f, degree);
-  const Matrix8& T = schur.matrixT();
   FixedList<double, 8> out;
   const auto add = [&](double re, double im) {
     // z = (1 + i t) / (1 - i t) = e^{i (c - c0)}.
@@ -151,6 +164,13 @@ FixedList<double, 8> TrigRoots(const std::complex<double>* f, int degree, double
       out.Push(c0 + std::arg(z));
     }
   };
+  if (schur.info() != Eigen::Success) {
+    std::complex<double> roots[8];
+    const int count = PolynomialRoots(P, N, roots);
+    for (int j = 0; j < count; ++j) add(roots[j].real(), roots[j].imag());
+    return out;
+  }
+  const Matrix8& T = schur.matrixT();
   for (int j = 0; j < N;) {
     if (j + 1 < N && T(j + 1, j) != 0.0) {
       // A 2 x 2 block (complex pair; RealSchur splits blocks with real eigenvalues): Eigen's formula.

@@ -2,6 +2,7 @@
 // The geometry under the closed-form inverse kinematics (robot/nominal_ik.cc): joint screws and
 // their exponentials, the Paden-Kahan subproblems 1 and 2, Pieper's 3R positioning problem, and where
 // lines meet. Angles in rad, lengths in m; no allocation per call.
+#include <complex>
 #include <utility>
 
 #include <Eigen/Core>
@@ -53,6 +54,14 @@ AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u
 
 // A unit vector across w.
 Vector3d Across(const Vector3d& w);
+
+// The degree complex roots of the real polynomial P[0] + P[1] t + ... + P[degree] t^degree (P[degree]
+// finite and not 0, else none: returns 0), by the Aberth-Ehrlich iteration (Aberth 1973: Newton's step on
+// each root, corrected by the repulsion of the others; all roots at once, cubically convergent), to
+// rounding. The fallback of Solve3R's eigenvalue solver where its real Schur form does not converge, in
+// place of Eigen's complex eigensolver (9 s of the 17 s this file took to compile, for a path almost never
+// taken).
+int PolynomialRoots(const double* P, int degree, std::complex<double>* roots);
 
 // A short list of fixed capacity (no allocation per solve); Push beyond the capacity is dropped (and
 // flagged); the capacities below are the most the closed forms can produce.

@@ -54,6 +54,7 @@ namespace {
 
 using namespace ik;  // robot/ik_geometry.h
 using Eigen::VectorXd;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 }  // namespace
 
@@ -372,8 +373,11 @@ void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, do
   Vector6d e = PoseError(model.ForwardKinematics(*q), T);
   double cost = e.squaredNorm();
   for (int it = 0; it < 8 && cost > 1e-28; ++it) {
-    const Matrix6Xd J = model.JointJacobian(*q);
-    Eigen::MatrixXd H = J.transpose() * J;
+    // Closed-form branches exist for 6 joints only (Detect): fixed 6 x 6 normal equations (dynamic ones
+    // cost 4.5 s more CPU to compile at -O3; Eigen evaluates a 6 x 6 dynamic product coefficient-wise
+    // too, and the results are the same).
+    const Matrix6d J = model.JointJacobian(*q);
+    Matrix6d H = J.transpose() * J;
     H.diagonal().array() += 1e-14 * std::max(1.0, H.diagonal().maxCoeff());
     const VectorXd step = H.ldlt().solve(J.transpose() * e);
     if (!step.allFinite()) break;
@@ -395,8 +399,8 @@ bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
     // r = sigma_min / sigma_max is bracketed without an SVD: sigma_max <= |J|_F <= sqrt(6) sigma_max and
     // 1 / sigma_min <= |J^-1|_F <= sqrt(6) / sigma_min give r / 6 <= 1 / (|J|_F |J^-1|_F) <= r. Only a
     // ratio inside that factor of 6 of the threshold (or an exactly singular LU) needs the SVD.
-    const Eigen::Matrix<double, 6, 6> A = J;
-    const double bound = 1.0 / (A.norm() * Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>>(A).inverse().norm());
+    const Matrix6d A = J;
+    const double bound = 1.0 / (A.norm() * Eigen::PartialPivLU<Matrix6d>(A).inverse().norm());
     if (bound >= options.singular_ratio) return false;
     if (6 * bound < options.singular_ratio) return true;
   }
