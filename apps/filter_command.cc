@@ -1,12 +1,13 @@
 // kincal filter --nominal N.yaml --identified I.yaml --program IN --out OUT [--format F] [--method M]
-//               [--options O.yaml] [--work-object "x y z a b c"] [--tool "x y z a b c"]
+//               [--options O.yaml] [--filter-options F.yaml] [--work-object "x y z a b c"] [--tool "x y z a b c"]
 // A robot program with its Cartesian targets replaced by filtered ones and its joint targets by
 // compensated joints, everything else byte for byte (programs/filter.h). Formats by extension or
 // --format: rapid (.mod .prg .modx), krl (.dat), urscript (.script), csv (compensate's targets).
 // Targets are in the robot's base frame (the controller's, frame contract of compensators/compensator.h),
 // or in the work object --work-object gives (its pose in the base frame: x y z in mm, then A B C in deg,
 // R = Rz(A) Ry(B) Rx(C)), for the identified robot file's tool unless --tool gives another (flange to
-// tool, same units). Targets that are not reached stay as written and are listed (file:line).
+// tool, same units). --filter-options gives the same as a file (work_object, tool, keep_tolerance; the
+// flags win). Targets that are not reached stay as written and are listed (file:line).
 #include <chrono>
 #include <iostream>
 #include <sstream>
@@ -22,29 +23,24 @@
 namespace kincal::app {
 namespace {
 
-// "x y z a b c" (mm, deg; commas allowed) as a pose.
+// "x y z a b c" (mm, deg; commas allowed) as a pose: the options table's conversion (programs/filter.h).
 Eigen::Isometry3d ParsePose(const std::string& option, const std::string& text) {
   std::string s = text;
   for (char& c : s) {
     if (c == ',') c = ' ';
   }
   std::istringstream in(s);
-  double v[6];
-  for (double& x : v) {
-    if (!(in >> x) || !std::isfinite(x)) {
-      ThrowInputError(option + ": expected 6 numbers \"x y z a b c\" (mm, deg), got '" + text + "'");
-    }
-  }
+  std::vector<double> v;
+  double x = 0.0;
+  while (in >> x) v.push_back(x);
   std::string rest;
-  if (in >> rest) ThrowInputError(option + ": expected 6 numbers \"x y z a b c\" (mm, deg), got '" + text + "'");
-  const double deg = M_PI / 180;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]) * 1e-3;
-  T.linear() = (Eigen::AngleAxisd(v[3] * deg, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(v[4] * deg, Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(v[5] * deg, Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
-  return T;
+  in.clear();
+  try {
+    if (in >> rest) throw std::invalid_argument("not a number");
+    return PoseFromXyzAbc(v);
+  } catch (const std::invalid_argument&) {
+    ThrowInputError(option + ": expected 6 numbers \"x y z a b c\" (mm, deg), got '" + text + "'");
+  }
 }
 
 }  // namespace
@@ -52,7 +48,8 @@ Eigen::Isometry3d ParsePose(const std::string& option, const std::string& text) 
 void AddFilterCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("filter", "a robot program with its targets compensated for the identified robot");
   struct Args {
-    std::string nominal, identified, program, out, format, method = "analytic_derivative", options, work_object, tool;
+    std::string nominal, identified, program, out, format, method = "analytic_derivative", options, filter_options,
+                                                           work_object, tool;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "the controller's robot file")->required();
@@ -62,6 +59,8 @@ void AddFilterCommand(CLI::App& app) {
   cmd->add_option("--format", a->format, "rapid, krl, urscript or csv (default: by the program's extension)");
   cmd->add_option("--method", a->method, "compensator (default analytic_derivative; see kincal methods)");
   cmd->add_option("--options", a->options, "the compensator's options (YAML)");
+  cmd->add_option("--filter-options", a->filter_options,
+                  "the filter's options (YAML): work_object, tool, keep_tolerance (kincal methods --options filter)");
   cmd->add_option("--work-object", a->work_object,
                   "the targets' frame in the robot's base frame: \"x y z a b c\" (mm, deg; R = Rz(a) Ry(b) Rx(c))");
   cmd->add_option("--tool", a->tool, "the targets' tool, flange to tool: \"x y z a b c\" (mm, deg)");
@@ -71,7 +70,8 @@ void AddFilterCommand(CLI::App& app) {
     const Robot identified = ReadRobotFile(a->identified);
     const std::unique_ptr<ProgramFormat> format =
         MakeProgramFormat(a->format.empty() ? ProgramFormatFromExtension(a->program) : a->format);
-    FilterOptions options;
+    FilterOptions options =
+        NamingFile(a->filter_options, [&] { return FilterOptions::Table().Read(LoadYamlFile(a->filter_options)); });
     if (!a->work_object.empty()) options.T_base_frame = ParsePose("--work-object", a->work_object);
     if (!a->tool.empty()) options.T_flange_tool = ParsePose("--tool", a->tool);
     Compensators().Get(a->method);

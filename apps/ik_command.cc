@@ -1,4 +1,4 @@
-// kincal ik ROBOT.yaml --targets T.csv --out Q.csv [--all-branches]
+// kincal ik ROBOT.yaml --targets T.csv --out Q.csv [--all-branches] [--options O.yaml]
 // Inverse kinematics of a robot (robot/nominal_ik.h): closed form where the geometry allows, numeric
 // otherwise. Targets: x_mm,y_mm,z_mm (or _m) with qw,qx,qy,qz (without them: position-only, numeric),
 // optionally q1_deg..qN_deg (or _rad) as each row's reference joints. The targets are a program: each is
@@ -14,6 +14,7 @@
 #include <iostream>
 #include <map>
 
+#include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/atomic_file.h"
 #include "framework/dataset.h"
@@ -23,11 +24,31 @@
 
 namespace kincal::app {
 
+namespace {
+
+// The solver's options from the file at `path` (none: the defaults), for a robot of n joints; bad values
+// are input errors with their line and column.
+NominalIkOptions ReadIkOptions(const std::string& path, int n) {
+  const YAML::Node options_file = LoadYamlFile(path);
+  const NominalIkOptions options = NamingFile(path, [&] { return NominalIkOptions::Table().Read(options_file); });
+  if (!options.configuration.empty() && static_cast<int>(options.configuration.size()) != n) {
+    // As the options reader words its errors (framework/options.h).
+    const YAML::Mark mark = options_file["configuration"].Mark();
+    ThrowInputError(
+        path + ": line " + std::to_string(mark.line + 1) + ", column " + std::to_string(mark.column + 1) +
+        ": options of inverse kinematics: 'configuration': " + std::to_string(options.configuration.size()) +
+        " signs for a robot of " + std::to_string(n) + " joints (one per joint)");
+  }
+  return options;
+}
+
+}  // namespace
+
 void AddIkCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "ik", "joint solutions of a robot for target poses (every branch in closed form where possible)");
   struct Args {
-    std::string robot, targets, out;
+    std::string robot, targets, out, options;
     bool all_branches = false;
   };
   auto a = std::make_shared<Args>();
@@ -36,6 +57,7 @@ void AddIkCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--out", a->out, "joint solutions to write (CSV)")->required();
   cmd->add_flag("--all-branches", a->all_branches, "every closed-form branch of each target, one row each");
+  cmd->add_option("--options", a->options, "the solver's options (YAML; kincal methods --options ik)");
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
     const Dataset data = ReadDataset(a->targets);
@@ -52,7 +74,9 @@ void AddIkCommand(CLI::App& app) {
                       "session, split and from_q columns have no meaning here");
     }
     if (data.rows.empty()) ThrowInputError(data.source, data.header_line, 0, "no targets");
-    const NominalInverseKinematics ik(robot);
+    const NominalIkOptions options = ReadIkOptions(a->options, n);
+    const NominalInverseKinematics ik =
+        NamingFile(a->options, [&] { return NominalInverseKinematics(robot, options); });
     const Unit angle = robot.angle_unit;
     const Unit length = data.length_unit;
     const double deg = M_PI / 180.0;

@@ -10,16 +10,65 @@
 
 namespace kincal {
 
-bool FilterOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!T_base_frame.matrix().allFinite()) return fail("the work object must be finite");
-  if (T_flange_tool && !T_flange_tool->matrix().allFinite()) return fail("the tool must be finite");
-  if (!(keep_tolerance >= 0) || !std::isfinite(keep_tolerance)) return fail("keep_tolerance must be >= 0");
-  return true;
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// [x, y, z, a, b, c] in mm and deg of a transform (inverse of PoseFromXyzAbc), for the documentation.
+std::vector<double> XyzAbc(const Eigen::Isometry3d& T) {
+  // + 0.0: no "-0" in the documentation.
+  const Eigen::Vector3d abc = (T.linear().eulerAngles(2, 1, 0) / kDeg).array() + 0.0;
+  const Eigen::Vector3d xyz = (T.translation() * 1e3).array() + 0.0;
+  return {xyz.x(), xyz.y(), xyz.z(), abc[0], abc[1], abc[2]};
 }
+
+std::string FinitePose(const Eigen::Isometry3d& T, const char* what) {
+  return T.matrix().allFinite() ? std::string() : std::string(what) + " must be finite";
+}
+
+}  // namespace
+
+Eigen::Isometry3d PoseFromXyzAbc(const std::vector<double>& v) {
+  if (v.size() != 6) throw std::invalid_argument("expected 6 numbers [x, y, z, a, b, c] (mm, deg)");
+  for (double x : v) {
+    if (!std::isfinite(x)) throw std::invalid_argument("expected 6 finite numbers [x, y, z, a, b, c] (mm, deg)");
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]) * 1e-3;
+  T.linear() = (Eigen::AngleAxisd(v[3] * kDeg, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(v[4] * kDeg, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(v[5] * kDeg, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  return T;
+}
+
+const OptionTable<FilterOptions>& FilterOptions::Table() {
+  using O = FilterOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("filter")
+          .Add<std::vector<double>>(
+              "work_object", [](const O& o) { return XyzAbc(o.T_base_frame); },
+              [](O* o, const std::vector<double>& v) { o->T_base_frame = PoseFromXyzAbc(v); },
+              "the program's frame in the robot's base frame, [x, y, z, a, b, c] (mm, deg)")
+          .Add<std::vector<double>>(
+              "tool", [](const O& o) { return o.T_flange_tool ? XyzAbc(*o.T_flange_tool) : std::vector<double>(); },
+              [](O* o, const std::vector<double>& v) {
+                if (v.empty()) {
+                  o->T_flange_tool.reset();
+                } else {
+                  o->T_flange_tool = PoseFromXyzAbc(v);
+                }
+              },
+              "the targets' tool, flange to tool, [x, y, z, a, b, c] (mm, deg); [] the robot file's")
+          .Add("keep_tolerance", &O::keep_tolerance,
+               "a number that moves by no more than this (relative to max(1, |value|)) keeps its text", NonNegative())
+          .Rule({"work_object"}, [](const O& o) { return FinitePose(o.T_base_frame, "the work object"); })
+          .Rule({"tool"},
+                [](const O& o) { return o.T_flange_tool ? FinitePose(*o.T_flange_tool, "the tool") : std::string(); });
+  return table;
+}
+
+bool FilterOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 ProgramFilter::ProgramFilter(const Robot& nominal, const Robot& identified, std::unique_ptr<Compensator> compensator,
                              const FilterOptions& options, ConfigurationConvention convention)

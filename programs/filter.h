@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include "compensators/compensator.h"
+#include "framework/options.h"
 #include "programs/configuration.h"
 #include "programs/program.h"
 #include "robot/nominal_ik.h"
@@ -35,8 +36,16 @@ struct FilterOptions {
   // A number that moves by no more than this (relative to max(1, |value|), in the file's unit) keeps
   // its text: a program filtered with identified = nominal comes back byte for byte.
   double keep_tolerance = 1e-9;
+  // Reading (`kincal filter --filter-options`: work_object and tool as [x, y, z, a, b, c] in mm and deg,
+  // R = Rz(a) Ry(b) Rx(c); tool [] for the robot file's), IsValid and the documentation
+  // (`kincal methods --options filter`).
+  static const OptionTable<FilterOptions>& Table();
   bool IsValid(std::string* why) const;
 };
+
+// The pose [x, y, z, a, b, c] (mm, deg; R = Rz(a) Ry(b) Rx(c)) as a transform; throws
+// std::invalid_argument unless there are 6 finite numbers.
+Eigen::Isometry3d PoseFromXyzAbc(const std::vector<double>& xyzabc);
 
 struct FilterReport {
   int pose_targets = 0, joint_targets = 0;

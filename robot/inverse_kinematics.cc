@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Cholesky>
 
@@ -10,19 +11,32 @@
 
 namespace kincal {
 
-bool InverseKinematicsOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (max_iterations < 1) return fail("max_iterations must be >= 1");
-  if (stall_iterations < 1) return fail("stall_iterations must be >= 1");
-  if (restarts < 0) return fail("restarts must be >= 0");
-  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
-  if (!(damping > 0) || !std::isfinite(damping)) return fail("damping must be > 0");
-  if (!(length_scale > 0)) return fail("length_scale must be > 0");
-  return true;
+const OptionTable<InverseKinematicsOptions>& InverseKinematicsOptions::Table() {
+  using O = InverseKinematicsOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("numeric inverse kinematics")
+          .Add("max_iterations", &O::max_iterations, "iterations per start, at most", AtLeast(1))
+          .Add("stall_iterations", &O::stall_iterations,
+               "a start ends when its cost has not halved in this many iterations", AtLeast(1))
+          .Add("restarts", &O::restarts, "further starts after the first (only while none converged)", AtLeast(0))
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "a pose closer than this is reached",
+               Positive())
+          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: a rotation smaller than this is reached",
+               Positive())
+          .Add("damping", &O::damping, "initial damping, relative to the largest diagonal entry of J^T J", Positive())
+          .Add("length_scale", OptionUnit::kLength, &O::length_scale, "per rad: weight of rotation against position",
+               Positive())
+          .Add<int>(
+              "seed", [](const O& o) { return static_cast<int>(o.seed); },
+              [](O* o, const int& seed) {
+                if (seed < 0) throw std::invalid_argument("must be >= 0");
+                o->seed = static_cast<uint64_t>(seed);
+              },
+              "the random starts' seed (0..2147483647)");
+  return table;
 }
+
+bool InverseKinematicsOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "framework/options.h"
 #include "robot/robot.h"
 
 namespace kincal {
@@ -31,6 +32,8 @@ struct InverseKinematicsOptions {
   double damping = 1e-6;                 // initial damping, relative to the largest diagonal entry of J^T J
   double length_scale = 1.0;             // m per rad: weight of rotation against position
   uint64_t seed = 1;
+  // Reading (a map of these keys, e.g. NominalIkOptions' `numeric`), IsValid and the documentation.
+  static const OptionTable<InverseKinematicsOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 

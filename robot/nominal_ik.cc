@@ -34,21 +34,55 @@ std::string ToString(IkStatus status) {
   return "unknown";
 }
 
-bool NominalIkOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (!(position_tolerance > 0) || !(orientation_tolerance > 0)) return fail("tolerances must be > 0");
-  if (!(distance_tolerance > 0) || !(direction_tolerance > 0)) return fail("detection tolerances must be > 0");
-  if (!(singular_ratio >= 0 && singular_ratio < 1)) return fail("singular_ratio must be in [0, 1)");
-  if (!configuration.empty()) {
-    for (int s : configuration) {
-      if (s < -1 || s > 1) return fail("configuration entries must be -1, 0 or +1");
-    }
-  }
-  return numeric.IsValid(why);
+const OptionTable<NominalIkOptions>& NominalIkOptions::Table() {
+  using O = NominalIkOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("inverse kinematics")
+          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "a pose closer than this is reached",
+               Positive())
+          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: a rotation smaller than this is reached",
+               Positive())
+          .Add("distance_tolerance", OptionUnit::kLength, &O::distance_tolerance,
+               "axes within this distance of a common point meet (closed-form detection)", Positive())
+          .Add("direction_tolerance", &O::direction_tolerance,
+               "directions whose cross product is below this are parallel (closed-form detection)", Positive())
+          .Add("singular_ratio", &O::singular_ratio, "sigma_min / sigma_max of the Jacobian below this is singular",
+               Between(0.0, 1.0, false, true))
+          .Add<std::vector<double>>(
+              "configuration",
+              [](const O& o) { return std::vector<double>(o.configuration.begin(), o.configuration.end()); },
+              [](O* o, const std::vector<double>& signs) {
+                o->configuration.clear();
+                for (double s : signs) {
+                  if (s != -1.0 && s != 0.0 && s != 1.0) throw std::invalid_argument("expected -1, 0 or +1 per joint");
+                  o->configuration.push_back(static_cast<int>(s));
+                }
+              },
+              "signs of the joint angles of the preferred branch, one per joint (-1, 0: either, +1); [] none")
+          .Add("use_closed_form", &O::use_closed_form, "false: always the numeric solver")
+          .AddRead({"numeric", "map", "{}", "the numeric solver's options, a map of the keys listed after these"},
+                   [](OptionsReader* reader, O* o) {
+                     reader->MarkRead("numeric");
+                     if (!reader->Has("numeric")) return;
+                     const YAML::Node numeric = reader->node()["numeric"];
+                     if (!numeric.IsMap()) reader->Fail("numeric", "expected a map of the numeric solver's options");
+                     o->numeric = InverseKinematicsOptions::Table().Read(numeric);
+                   })
+          .Rule({"configuration"},
+                [](const O& o) {
+                  for (int s : o.configuration) {
+                    if (s < -1 || s > 1) return std::string("configuration entries must be -1, 0 or +1");
+                  }
+                  return std::string();
+                })
+          .Rule({"numeric"}, [](const O& o) {
+            std::string why;
+            return o.numeric.IsValid(&why) ? std::string() : "numeric: " + why;
+          });
+  return table;
 }
+
+bool NominalIkOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 

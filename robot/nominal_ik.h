@@ -37,6 +37,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "framework/options.h"
 #include "robot/inverse_kinematics.h"
 #include "robot/robot.h"
 
@@ -76,7 +77,9 @@ struct NominalIkOptions {
   // branch closest to the reference (the previous target's solution, else the middle of the limits).
   std::vector<int> configuration;
   bool use_closed_form = true;       // false: always numeric (for tests and comparisons)
-  InverseKinematicsOptions numeric;  // the fallback, also for position-only targets
+  InverseKinematicsOptions numeric;  // the fallback, also for position-only targets (a map in files)
+  // Reading (`kincal ik --options`), IsValid and the documentation (`kincal methods --options ik`).
+  static const OptionTable<NominalIkOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 

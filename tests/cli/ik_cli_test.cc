@@ -1,6 +1,7 @@
 // `kincal ik`: solutions that reach the targets on the robot (read back from the file), a status per row
 // (a singular pose reached: singular; a pose out of reach: unreachable), every branch on request, and
-// bad input as exit status 2 with one line.
+// bad input as exit status 2 with one line; --options names the branch, and its bad values their line
+// and column.
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -88,6 +89,52 @@ TEST(IkCli, BadInputExitsWithStatusTwoAndOneLine) {
     const auto r = RunKincal("ik " + robot_file + " --targets " + targets + " --out " + dir.path("q.csv"));
     EXPECT_EQ(r.exit_code, 2) << targets;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(testing::ReadText(dir.path("q.csv")), "keep me");
+  }
+}
+
+// --options: the named configuration picks the branch (the sign of q5, the wrist flip, on a generic
+// IRB 120 pose, follows the option); a bad value names the file, line and column, exit 2.
+TEST(IkCli, OptionsFileNamesTheBranchAndBadValuesGiveLineAndColumn) {
+  const std::string robot_file = testing::SourcePath("examples/robots/irb120_mdh.yaml");
+  const Robot robot = ReadRobotFile(robot_file);
+  testing::TempDir dir;
+  const double c[6] = {0.4, 0.3, -0.2, 0.7, 0.9, -0.5};
+  const Eigen::Isometry3d T = robot.model().ForwardKinematics(Eigen::Map<const Eigen::VectorXd>(c, 6));
+  const Eigen::Quaterniond quat(T.linear());
+  std::ostringstream targets;
+  targets.precision(17);
+  targets << "x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+          << T.translation().x() * 1e3 << "," << T.translation().y() * 1e3 << "," << T.translation().z() * 1e3 << ","
+          << quat.w() << "," << quat.x() << "," << quat.y() << "," << quat.z() << "\n";
+  testing::WriteText(dir.path("targets.csv"), targets.str());
+  for (const int sign : {-1, 1}) {
+    testing::WriteText(dir.path("o.yaml"), "configuration: [0, 0, 0, 0, " + std::to_string(sign) + ", 0]\n");
+    const auto r = RunKincal("ik " + robot_file + " --targets " + dir.path("targets.csv") + " --out " +
+                             dir.path("q.csv") + " --options " + dir.path("o.yaml"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto rows = ReadCsv(testing::ReadText(dir.path("q.csv")));
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[1][6], "solved");
+    EXPECT_GT(sign * std::stod(rows[1][4]), 1.0) << "q5 " << rows[1][4];
+  }
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"position_tolerance: 1e-9\nnumeric:\n  restarts: -3\n", "line 3, column 13:"},
+      {"configuration: [0, 0, 2, 0, 0, 0]\n", "line 1, column 16:"},
+      {"\nconfiguration: [0, 0, 1]\n", "line 2, column 16:"},
+      {"singular_ratio: 1.5\n", "line 1, column 17:"},
+      {"position_tolerance: 1 parsec\n", "line 1, column 21:"},
+      {"use_closed_form: true\nrestarts: 3\n", "line 2, column 11:"},
+  };
+  testing::WriteText(dir.path("q.csv"), "keep me");
+  for (const auto& [text, where] : bad) {
+    testing::WriteText(dir.path("bad.yaml"), text);
+    const auto r = RunKincal("ik " + robot_file + " --targets " + dir.path("targets.csv") + " --out " +
+                             dir.path("q.csv") + " --options " + dir.path("bad.yaml"));
+    EXPECT_EQ(r.exit_code, 2) << text;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("bad.yaml"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(where), std::string::npos) << text << " -> " << r.err;
     EXPECT_EQ(testing::ReadText(dir.path("q.csv")), "keep me");
   }
 }

@@ -1,6 +1,7 @@
 // `kincal filter` end to end: a RAPID module for an identified IRB 120 with one target out of reach (kept
 // as written, reported with its line, counted); malformed programs and what kincal does not filter give
-// exit status 2, one line naming file, line and column, and no output file.
+// exit status 2, one line naming file, line and column, and no output file; the work object and tool
+// from flags or from a --filter-options file (whose bad values name their line and column).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -103,6 +104,42 @@ TEST(FilterCommand, WorkObjectAndToolOptions) {
     const Vector6d e = PoseError(identified.model().ForwardKinematics(s.q), T_meas_wobj * before[i].T_frame_tool);
     EXPECT_LE(e.head<3>().norm(), 1e-8) << i;  // the options' decimals: 1e-5 mm
     EXPECT_LE(e.tail<3>().norm(), 1e-8) << i;
+  }
+}
+
+// The same work object and tool from a --filter-options file: the same bytes as with the flags; a bad
+// value in the file: exit 2, one line naming the file, line and column, no output.
+TEST(FilterCommand, FilterOptionsFileGivesWhatTheFlagsGive) {
+  Files f;
+  const Robot nominal = testing::LoadExampleRobot("irb120_mdh.yaml");
+  const Robot controller = ControllerRobot(nominal, ReadRobotFile(f.identified));
+  const Eigen::Isometry3d T_base_wobj = PoseFromXyzRpy({0.3, -0.1, 0.05}, {0.0, 0.0, 0.5});
+  testing::WriteText(f.dir.path("w.mod"),
+                     testing::RapidModule(controller, testing::Configurations(controller, 10, 7), 1000, T_base_wobj));
+  const auto flags = RunKincal(f.Args(f.dir.path("w.mod"), f.dir.path("flags.mod")) +
+                               " --work-object \"300 -100 50 28.6 0 0\" --tool \"10 0 150 0 17.2 0\"");
+  ASSERT_EQ(flags.exit_code, 0) << flags.err;
+  testing::WriteText(f.dir.path("filter.yaml"),
+                     "# frames\nwork_object: [300, -100, 50, 28.6, 0, 0]\ntool: [10, 0, 150, 0, 17.2, 0]\n");
+  const auto file =
+      RunKincal(f.Args(f.dir.path("w.mod"), f.dir.path("file.mod")) + " --filter-options " + f.dir.path("filter.yaml"));
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  EXPECT_EQ(testing::ReadText(f.dir.path("file.mod")), testing::ReadText(f.dir.path("flags.mod")));
+
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"work_object: [300, -100, 50, 28.6, 0, 0]\ntool: [10, 0, 150]\n", "line 2, column 7:"},
+      {"keep_tolerance: -1\n", "line 1, column 17:"},
+      {"tool: [1, 2, 3, 4, 5, x]\n", "line 1, column 7:"},
+      {"work_objekt: [0, 0, 0, 0, 0, 0]\n", "line 1, column 14:"},
+  };
+  for (const auto& [text, where] : bad) {
+    testing::WriteText(f.dir.path("bad.yaml"), text);
+    const auto r =
+        RunKincal(f.Args(f.dir.path("w.mod"), f.dir.path("bad.mod")) + " --filter-options " + f.dir.path("bad.yaml"));
+    EXPECT_EQ(r.exit_code, 2) << text;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("bad.yaml: " + where), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(f.dir.path("bad.mod")));
   }
 }
 
