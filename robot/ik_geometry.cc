@@ -471,6 +471,52 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
   return out;
 }
 
+double PlanarElbow::ReachableFreeAngle(const Isometry3d& Q, const Screw& S, const Vector3d& g, double reference) const {
+  const Vector3d on = S.p + S.w * S.w.dot(g - S.p), gp = g - on;
+  const Vector3d o = Flat(Q * on) - c1, U = Flat(Q.linear() * gp), V = Flat(Q.linear() * S.w.cross(gp));
+  const double K = o.squaredNorm() + U.squaredNorm(), alpha = 2 * o.dot(U), beta = -2 * o.dot(V);
+  const double low = (dist - r2) * (dist - r2), high = (dist + r2) * (dist + r2), tolerance = 1e-12 * high;
+  const auto reachable = [&](double x) {
+    const double r = K + alpha * std::cos(x) + beta * std::sin(x);
+    return r >= low - tolerance && r <= high + tolerance;
+  };
+  if (reachable(reference)) return reference;
+  double best = reference, best_distance = INFINITY;
+  const double rho = std::hypot(alpha, beta), phi = std::atan2(beta, alpha);
+  for (double edge : {low, high}) {
+    if (!(rho > 0)) break;
+    const double delta = std::acos(std::clamp((edge - K) / rho, -1.0, 1.0));
+    for (double x : {phi + delta, phi - delta}) {
+      const double distance = std::abs(WrapAngle(x - reference));
+      if (distance < best_distance && reachable(x)) {
+        best = x;
+        best_distance = distance;
+      }
+    }
+  }
+  return best;
+}
+
+int ShoulderAngles(const Screw& X, const Vector3d& w, const Isometry3d& M, const Vector3d& center, double free_a,
+                   double* as, int* free_mask) {
+  const Vector3d m = M * center - X.p;
+  const double A = w.dot(m - X.w * X.w.dot(m)), B = -w.dot(X.w.cross(m));
+  const double C = w.dot(center - X.p) - w.dot(X.w) * X.w.dot(m);
+  const double r = std::hypot(A, B), length = 1.0 + m.norm() + center.norm();
+  int count = 0;
+  if (r <= 1e-10 * length) {
+    if (std::abs(C) > 1e-10 * length) return 0;
+    *free_mask |= 1;
+    as[count++] = free_a;
+  } else {
+    if (std::abs(C) > r * (1 + 1e-9)) return 0;
+    const double phi = std::atan2(B, A), delta = std::acos(std::clamp(C / r, -1.0, 1.0));
+    as[count++] = phi + delta;
+    if (delta > 1e-12 && delta < M_PI - 1e-12) as[count++] = phi - delta;
+  }
+  return count;
+}
+
 Vector3d CommonPoint(const Screw* s, int count, double* distance) {
   Matrix3d A = Matrix3d::Zero();
   Vector3d b = Vector3d::Zero();

@@ -99,6 +99,29 @@ using Positions = FixedList<Vector3d, 16>;
 Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
                   int* free_mask);
 
+// The planar triple of three parallel axes P1, P2, P3 (direction w; robot/nominal_ik.cc's parallel
+// closed form): an elbow that takes the point of axis P3 (at distance r2 from axis P2) to a point at
+// distance r1 from axis P1, reachable for |dist - r2| <= r1 <= dist + r2 (dist: between axes P1 and P2).
+struct PlanarElbow {
+  Vector3d w, c1, c2, dv;
+  double dist, r2;
+
+  PlanarElbow(const Screw& P1, const Screw& P2, const Screw& P3)
+      : w(P1.w), c1(Flat(P1.p)), c2(Flat(P2.p)), dv(c2 - c1), dist(dv.norm()), r2(Flat(P3.p - P2.p).norm()) {}
+  Vector3d Flat(const Vector3d& x) const { return Vector3d(x - w * w.dot(x)); }
+
+  // Where the wrist is singular, the free angle x of screw S moves that point on the circle
+  // t(x) = Q E_S(-x) g, in a plane across w: |flat(t) - c1|^2 = K + alpha cos x + beta sin x. The angle
+  // closest to `reference` that keeps it within reach (the reference itself, else an edge of the arc).
+  double ReachableFreeAngle(const Isometry3d& Q, const Screw& S, const Vector3d& g, double reference) const;
+};
+
+// The lone joint X of three parallel axes (direction w) whose pair meets at `center`: the planar triple
+// keeps heights along w, w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u. <= 2 angles into as; a shoulder
+// singularity (the pair's point on axis X, the same height for every a) gives `free_a` and sets bit 0.
+int ShoulderAngles(const Screw& X, const Vector3d& w, const Isometry3d& M, const Vector3d& center, double free_a,
+                   double* as, int* free_mask);
+
 // The point where three lines meet (least squares) and the largest distance of it to them.
 Vector3d CommonPoint(const Screw* s, int count, double* distance);
 

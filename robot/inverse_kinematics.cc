@@ -11,33 +11,6 @@
 
 namespace kincal {
 
-const OptionTable<InverseKinematicsOptions>& InverseKinematicsOptions::Table() {
-  using O = InverseKinematicsOptions;
-  static const OptionTable<O> table =
-      OptionTable<O>("numeric inverse kinematics")
-          .Add("max_iterations", &O::max_iterations, "iterations per start, at most", AtLeast(1))
-          .Add("stall_iterations", &O::stall_iterations,
-               "a start ends when its cost has not halved in this many iterations", AtLeast(1))
-          .Add("restarts", &O::restarts, "further starts after the first (only while none converged)", AtLeast(0))
-          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "a pose closer than this is reached",
-               Positive())
-          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: a rotation smaller than this is reached",
-               Positive())
-          .Add("damping", &O::damping, "initial damping, relative to the largest diagonal entry of J^T J", Positive())
-          .Add("length_scale", OptionUnit::kLength, &O::length_scale, "per rad: weight of rotation against position",
-               Positive())
-          .Add<int>(
-              "seed", [](const O& o) { return static_cast<int>(o.seed); },
-              [](O* o, const int& seed) {
-                if (seed < 0) throw std::invalid_argument("must be >= 0");
-                o->seed = static_cast<uint64_t>(seed);
-              },
-              "the random starts' seed (0..2147483647)");
-  return table;
-}
-
-bool InverseKinematicsOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
-
 namespace {
 
 struct Descent {

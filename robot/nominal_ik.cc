@@ -1,15 +1,13 @@
-// Over 600 lines on purpose: one class's implementation (NominalInverseKinematics::Impl), whose detection
-// of the closed form, branch solvers, polishing and choice of branch share its private state and are read
-// together; the geometric subproblems it calls live in ik_geometry.cc.
+// NominalInverseKinematics::Impl: detection of the closed form, branch solvers, polishing and choice of
+// branch, which share its private state; the geometric subproblems it calls live in ik_geometry.cc, the
+// options' table in ik_options.cc.
 #include "robot/nominal_ik.h"
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "framework/error.h"
@@ -33,56 +31,6 @@ std::string ToString(IkStatus status) {
   }
   return "unknown";
 }
-
-const OptionTable<NominalIkOptions>& NominalIkOptions::Table() {
-  using O = NominalIkOptions;
-  static const OptionTable<O> table =
-      OptionTable<O>("inverse kinematics")
-          .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "a pose closer than this is reached",
-               Positive())
-          .Add("orientation_tolerance", &O::orientation_tolerance, "rad: a rotation smaller than this is reached",
-               Positive())
-          .Add("distance_tolerance", OptionUnit::kLength, &O::distance_tolerance,
-               "axes within this distance of a common point meet (closed-form detection)", Positive())
-          .Add("direction_tolerance", &O::direction_tolerance,
-               "directions whose cross product is below this are parallel (closed-form detection)", Positive())
-          .Add("singular_ratio", &O::singular_ratio, "sigma_min / sigma_max of the Jacobian below this is singular",
-               Between(0.0, 1.0, false, true))
-          .Add<std::vector<double>>(
-              "configuration",
-              [](const O& o) { return std::vector<double>(o.configuration.begin(), o.configuration.end()); },
-              [](O* o, const std::vector<double>& signs) {
-                o->configuration.clear();
-                for (double s : signs) {
-                  if (s != -1.0 && s != 0.0 && s != 1.0) throw std::invalid_argument("expected -1, 0 or +1 per joint");
-                  o->configuration.push_back(static_cast<int>(s));
-                }
-              },
-              "signs of the joint angles of the preferred branch, one per joint (-1, 0: either, +1); [] none")
-          .Add("use_closed_form", &O::use_closed_form, "false: always the numeric solver")
-          .AddRead({"numeric", "map", "{}", "the numeric solver's options, a map of the keys listed after these"},
-                   [](OptionsReader* reader, O* o) {
-                     reader->MarkRead("numeric");
-                     if (!reader->Has("numeric")) return;
-                     const YAML::Node numeric = reader->node()["numeric"];
-                     if (!numeric.IsMap()) reader->Fail("numeric", "expected a map of the numeric solver's options");
-                     o->numeric = InverseKinematicsOptions::Table().Read(numeric);
-                   })
-          .Rule({"configuration"},
-                [](const O& o) {
-                  for (int s : o.configuration) {
-                    if (s < -1 || s > 1) return std::string("configuration entries must be -1, 0 or +1");
-                  }
-                  return std::string();
-                })
-          .Rule({"numeric"}, [](const O& o) {
-            std::string why;
-            return o.numeric.IsValid(&why) ? std::string() : "numeric: " + why;
-          });
-  return table;
-}
-
-bool NominalIkOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 
@@ -249,74 +197,6 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
     *free_mask |= wrist << first;
   }
 }
-
-namespace {
-
-// The planar triple of three parallel axes P1, P2, P3 (direction w): an elbow that takes the point of
-// axis P3 (at distance r2 from axis P2) to a point at distance r1 from axis P1, reachable for
-// |dist - r2| <= r1 <= dist + r2 (dist: between axes P1 and P2).
-struct PlanarElbow {
-  Vector3d w, c1, c2, dv;
-  double dist, r2;
-
-  PlanarElbow(const Screw& P1, const Screw& P2, const Screw& P3)
-      : w(P1.w), c1(Flat(P1.p)), c2(Flat(P2.p)), dv(c2 - c1), dist(dv.norm()), r2(Flat(P3.p - P2.p).norm()) {}
-  Vector3d Flat(const Vector3d& x) const { return Vector3d(x - w * w.dot(x)); }
-
-  // Where the wrist is singular, the free angle x of screw S moves that point on the circle
-  // t(x) = Q E_S(-x) g, in a plane across w: |flat(t) - c1|^2 = K + alpha cos x + beta sin x. The angle
-  // closest to `reference` that keeps it within reach (the reference itself, else an edge of the arc).
-  double ReachableFreeAngle(const Isometry3d& Q, const Screw& S, const Vector3d& g, double reference) const {
-    const Vector3d on = S.p + S.w * S.w.dot(g - S.p), gp = g - on;
-    const Vector3d o = Flat(Q * on) - c1, U = Flat(Q.linear() * gp), V = Flat(Q.linear() * S.w.cross(gp));
-    const double K = o.squaredNorm() + U.squaredNorm(), alpha = 2 * o.dot(U), beta = -2 * o.dot(V);
-    const double low = (dist - r2) * (dist - r2), high = (dist + r2) * (dist + r2), tolerance = 1e-12 * high;
-    const auto reachable = [&](double x) {
-      const double r = K + alpha * std::cos(x) + beta * std::sin(x);
-      return r >= low - tolerance && r <= high + tolerance;
-    };
-    if (reachable(reference)) return reference;
-    double best = reference, best_distance = INFINITY;
-    const double rho = std::hypot(alpha, beta), phi = std::atan2(beta, alpha);
-    for (double edge : {low, high}) {
-      if (!(rho > 0)) break;
-      const double delta = std::acos(std::clamp((edge - K) / rho, -1.0, 1.0));
-      for (double x : {phi + delta, phi - delta}) {
-        const double distance = std::abs(WrapAngle(x - reference));
-        if (distance < best_distance && reachable(x)) {
-          best = x;
-          best_distance = distance;
-        }
-      }
-    }
-    return best;
-  }
-};
-
-// The lone joint X of three parallel axes (direction w) whose pair meets at `center`: the planar triple
-// keeps heights along w, w.(E_X(-a) M u - u) = 0, with E_Y, E_Z fixing u. <= 2 angles into as; a shoulder
-// singularity (the pair's point on axis X, the same height for every a) gives `free_a` and sets bit 0.
-int ShoulderAngles(const Screw& X, const Vector3d& w, const Isometry3d& M, const Vector3d& center, double free_a,
-                   double* as, int* free_mask) {
-  const Vector3d m = M * center - X.p;
-  const double A = w.dot(m - X.w * X.w.dot(m)), B = -w.dot(X.w.cross(m));
-  const double C = w.dot(center - X.p) - w.dot(X.w) * X.w.dot(m);
-  const double r = std::hypot(A, B), length = 1.0 + m.norm() + center.norm();
-  int count = 0;
-  if (r <= 1e-10 * length) {
-    if (std::abs(C) > 1e-10 * length) return 0;
-    *free_mask |= 1;
-    as[count++] = free_a;
-  } else {
-    if (std::abs(C) > r * (1 + 1e-9)) return 0;
-    const double phi = std::atan2(B, A), delta = std::acos(std::clamp(C / r, -1.0, 1.0));
-    as[count++] = phi + delta;
-    if (delta > 1e-12 && delta < M_PI - 1e-12) as[count++] = phi - delta;
-  }
-  return count;
-}
-
-}  // namespace
 
 void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const Vector6d& free, BranchList* out,
                                                       int* free_mask) const {
