@@ -221,17 +221,25 @@ std::function<std::unique_ptr<Product>(const YAML::Node&)> FactoryOf(const std::
   };
 }
 
+// register_estimator and register_compensator: a callable factory, added through the registrar.
+template <typename Add>
+void RegisterPython(const char* function, const py::object& factory, Add add) {
+  if (!PyCallable_Check(factory.ptr()))
+    throw std::invalid_argument(std::string(function) + ": factory is not callable");
+  RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
+  add(&registrar);
+}
+
 }  // namespace
 
 void BindPlugins(py::module_& m) {
   m.def(
       "register_estimator",
       [](const std::string& name, py::object factory, const std::string& description) {
-        if (!PyCallable_Check(factory.ptr()))
-          throw std::invalid_argument("register_estimator: factory is not callable");
-        RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
-        registrar.AddEstimator(name, description.empty() ? "Python estimator" : description,
-                               FactoryOf<Estimator, PythonEstimator>(name, std::move(factory)));
+        RegisterPython("register_estimator", factory, [&](RegistryRegistrar* registrar) {
+          registrar->AddEstimator(name, description.empty() ? "Python estimator" : description,
+                                  FactoryOf<Estimator, PythonEstimator>(name, factory));
+        });
       },
       py::arg("name"), py::arg("factory"), py::arg("description") = "",
       "Adds an estimator written in Python: factory(options: dict) returns an object with estimate(start: Robot, "
@@ -240,11 +248,10 @@ void BindPlugins(py::module_& m) {
   m.def(
       "register_compensator",
       [](const std::string& name, py::object factory, const std::string& description) {
-        if (!PyCallable_Check(factory.ptr()))
-          throw std::invalid_argument("register_compensator: factory is not callable");
-        RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
-        registrar.AddCompensator(name, description.empty() ? "Python compensator" : description,
-                                 FactoryOf<Compensator, PythonCompensator>(name, std::move(factory)));
+        RegisterPython("register_compensator", factory, [&](RegistryRegistrar* registrar) {
+          registrar->AddCompensator(name, description.empty() ? "Python compensator" : description,
+                                    FactoryOf<Compensator, PythonCompensator>(name, factory));
+        });
       },
       py::arg("name"), py::arg("factory"), py::arg("description") = "",
       "Adds a compensator written in Python: factory(options: dict) returns an object with compensate(target: 4x4 "
