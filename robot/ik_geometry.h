@@ -1,7 +1,8 @@
 #pragma once
 // The geometry under the closed-form inverse kinematics (robot/nominal_ik.cc): joint screws and
-// their exponentials, the Paden-Kahan subproblems 1 and 2, Pieper's 3R positioning problem, and where
-// lines meet. Angles in rad, lengths in m; no allocation per call.
+// their exponentials, the Paden-Kahan subproblems 1 and 2, Pieper's 3R positioning problem (with the
+// roots of its polynomial), the planar elbow of three parallel axes, and where lines meet. Angles in rad,
+// lengths in m; no allocation per call.
 #include <complex>
 #include <utility>
 
@@ -59,8 +60,8 @@ Vector3d Across(const Vector3d& w);
 // finite and not 0, else none: returns 0), by the Aberth-Ehrlich iteration (Aberth 1973: Newton's step on
 // each root, corrected by the repulsion of the others; all roots at once, cubically convergent), to
 // rounding. The fallback of Solve3R's eigenvalue solver where its real Schur form does not converge, in
-// place of Eigen's complex eigensolver (9 s of the 17 s this file took to compile, for a path almost never
-// taken).
+// place of Eigen's complex eigensolver (9 s of the 17 s of CPU ik_geometry.cc took to compile at -O3, for
+// a path almost never taken).
 int PolynomialRoots(const double* P, int degree, std::complex<double>* roots);
 
 // A short list of fixed capacity (no allocation per solve); Push beyond the capacity is dropped (and
