@@ -176,19 +176,26 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
   return true;
 }
 
-bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
+double PredictedDecrease(const NormalEquations& ne) {
   const int p = static_cast<int>(ne.Jtr.size());
-  if (p == 0) return true;
-  if (!(sigma > 0.0) || ne.JtJ.rows() != p) return false;
+  if (p == 0) return 0.0;
+  if (ne.JtJ.rows() != p) return NAN;
   const Eigen::VectorXd d = ne.JtJ.diagonal().cwiseMax(0.0).cwiseSqrt();
-  if (!(d.minCoeff() > 0.0)) return false;
+  if (!(d.minCoeff() > 0.0)) return NAN;
   const Eigen::VectorXd d_inv = d.cwiseInverse();
   const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * ne.JtJ * d_inv.asDiagonal());
-  if (llt.info() != Eigen::Success) return false;
+  if (llt.info() != Eigen::Success) return NAN;
   const Eigen::VectorXd g = d_inv.asDiagonal() * ne.Jtr;
-  const double predicted = g.dot(llt.solve(g));
-  return predicted <= 0.01 * sigma * sigma;
+  return g.dot(llt.solve(g));
 }
+
+bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
+  if (ne.Jtr.size() == 0) return true;
+  if (!(sigma > 0.0)) return false;
+  return PredictedDecrease(ne) <= 0.01 * sigma * sigma;  // NaN compares false
+}
+
+bool InFlatValley(const NormalEquations& ne) { return PredictedDecrease(ne) <= 0.01 * ne.cost; }
 
 Covariance ComputeCovariance(const NormalEquations& ne, int p) {
   Covariance c;

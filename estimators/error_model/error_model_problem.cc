@@ -82,7 +82,7 @@ const OptionTable<ErrorModelOptions>& ErrorModelOptions::Table() {
           .Add("identifiability_tolerance", &O::identifiability_tolerance,
                "sine below which a Jacobian column counts as dependent", Between(0, 1, true, true))
           .Include(ErrorModelBounds::Table(), &O::bounds)
-          .AddRead({"prior", "on, off or a map", "off",
+          .AddRead({"prior", "on, off or a map", "off (on with select: true)",
                     "Gaussian priors: on (defaults by kind), or sd by kind or name (priors.cc)"},
                    [](OptionsReader* reader, O* o) { ReadPriorOptions(reader, &o->prior); })
           .Document({"prior_noise", "length", "0 m", "noise of the prior's pseudo-residuals; 0: estimated"})

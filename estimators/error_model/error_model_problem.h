@@ -91,6 +91,7 @@ struct ErrorModelBounds {
 // default 0 = estimated from the residuals at the solution, the fit repeated until it settles).
 struct PriorOptions {
   bool enabled = false;
+  bool given = false;  // the options name `prior` (on, off or a map); selection turns priors on unless given
   std::map<std::string, double> sd;  // by kind or name, SI (joint error kinds: rad of joint offset); 0: none
   double noise = 0.0;                // m; 0: estimated
   // The defaults above by kind; 0 for an unknown kind.
