@@ -24,6 +24,7 @@
 #include "estimators/estimator.h"
 #include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
+#include "tests/estimators/geometric/fanuc_fixture.h"
 #include "tests/estimators/irb120_faro.h"
 #include "tests/estimators/irb120_wu2015.h"
 #include "tests/estimators/ur10_ipa2021.h"
@@ -154,6 +155,68 @@ TEST(PredictionUncertaintyRealData, Irb120Wu2015Coverage) {
   const Scored s = FitAndScore(nominal, wu.calibration, wu.test1, false);
   std::printf("irb120_wu2015 test set 1: held-out RMS %.4f mm; coverage %.3f\n", s.rms * 1e3, s.coverage);
   EXPECT_GE(s.coverage, 0.95);
+}
+
+// fanuc_boby2021 (one sweep per joint, 6 stops, three reflectors; the 1st, 3rd and 5th stop of every sweep
+// fit, the others scored), geometry by least squares: 51 of the 54 held-out errors lie within the bound,
+// 94.4 %, below the 95 % the other datasets reach. The three misses are one pose, the three reflectors
+// of the joint-2 sweep's last stop (q2 = 50 deg), 16 deg beyond the stops the fit saw (-30..34 deg),
+// 1.8-1.9 mm off, nearly all vertical: joint 2's compliance under the arm's weight, which geometry cannot
+// represent and the parameters' covariance does not predict (its sd there is 0.19 mm, not beyond the
+// support threshold). Not a defect of the noise estimate or the propagation: adding the gravity of joints
+// 2 and 3 halves that pose's error (0.95 mm max held out, 0.516 -> 0.349 mm RMS).
+TEST(PredictionUncertaintyRealData, FanucCoverageMissesOnlyTheExtrapolatedJoint2Stop) {
+  std::string csv;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(FanucSweepsCsv(SharedDataPath("fanuc_boby2021/sweeps.csv"), true, &csv),
+                                  "no ../shared/data/fanuc_boby2021/sweeps.csv");
+  const Dataset all = ParseDatasetCsv(csv, "fanuc_boby2021 (from sweeps.csv)");
+  const Dataset train = all.Subset(Split::kTrain), test = all.Subset(Split::kTest);
+  const auto fit = [&](const Robot& start, std::vector<double>* errors, std::vector<double>* bound) {
+    Robot identified;
+    const EstimationReport report =
+        Estimators().Create("least_squares", YAML::Load("max_iterations: 200"))->Estimate(start, train, &identified);
+    const PredictionErrors e = EvaluatePredictions(start, identified, test);
+    const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+    const std::vector<double> sd = PredictionSd(identified, start, test, cov);
+    *errors = e.position;
+    bound->clear();
+    for (double s : sd) bound->push_back(3.0 * std::sqrt(s * s + 3.0 * cov.sigma * cov.sigma));
+    return CheckUncertainty(e.position, sd, cov).coverage;
+  };
+  const Robot geometry = LoadExampleRobot("fanuc_r2000_nominal.yaml");
+  std::vector<double> errors, bound;
+  const double coverage = fit(geometry, &errors, &bound);
+  double q2_trained = -1e9;
+  for (const Measurement& m : train.rows) {
+    if (m.sweep == 2) q2_trained = std::max(q2_trained, m.q[1]);
+  }
+  std::vector<int> misses;
+  for (size_t i = 0; i < errors.size(); ++i) {
+    if (errors[i] > bound[i]) misses.push_back(static_cast<int>(i));
+  }
+  std::printf("fanuc_boby2021, geometry: coverage %.4f (%zu of %zu rows outside the bound)\n", coverage, misses.size(),
+              errors.size());
+  EXPECT_NEAR(coverage, 51.0 / 54.0, 1e-9);
+  ASSERT_EQ(misses.size(), 3u);
+  for (int i : misses) {
+    const Measurement& m = test.rows[i];
+    EXPECT_EQ(m.sweep, 2);
+    EXPECT_GT(m.q[1], q2_trained + 0.2) << "row " << i << " is not beyond the trained joint-2 range";
+    std::printf("  miss: row %d, %s, q2 %.0f deg, error %.3f mm, bound %.3f mm\n", i, m.marker.c_str(),
+                m.q[1] * 180.0 / M_PI, errors[i] * 1e3, bound[i] * 1e3);
+  }
+  // What is missing is compliance: the gravity of joints 2 and 3 halves the error at that pose.
+  Robot gravity = geometry;
+  for (int joint : {1, 2}) {
+    JointErrorTerm term;
+    term.type = JointErrorTerm::Type::kGravity;
+    term.joint = joint;
+    gravity.joint_errors.terms.push_back(term);
+  }
+  gravity.joint_errors.Bind(gravity.model());
+  std::vector<double> errors_gravity, bound_gravity;
+  fit(gravity, &errors_gravity, &bound_gravity);
+  for (int i : misses) EXPECT_LT(errors_gravity[i], 0.55 * errors[i]) << "row " << i;
 }
 
 }  // namespace
