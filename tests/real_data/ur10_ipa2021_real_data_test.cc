@@ -138,7 +138,7 @@ const std::vector<TableCase>& TableCases() {
       TableCase{"C", 2, kGravity23, 0.4870, 1.5325},
       TableCase{"C", 4, kGravity25, 0.4894, 1.5446},
       TableCase{"C", 10, kHarmonic, 0.4835, 1.4391},
-      TableCase{"C", 22, kApproach, 0.4826, 1.4592}
+      TableCase{"C", 22, kApproach, 0.4826, 1.4592},
   };
   return cases;
 }
