@@ -114,30 +114,18 @@ const char* kApproach = "+ approach, backlash";
 // there: its weak parameters named, those without a prior held, and fitted again with a budget of its own).
 const std::vector<TableCase>& TableCases() {
   static const std::vector<TableCase> cases = {
-      TableCase{"D", 0, kGeometry, 0.4073, 1.3310},
-      TableCase{"D", 2, kGravity23, 1.3667, 23.4947},
-      TableCase{"D", 4, kGravity25, 7.5357, 133.7990},
-      TableCase{"D", 10, kHarmonic, 1.6409, 28.4024},
-      TableCase{"D", 22, kApproach, 1.5610, 26.9395},
-      TableCase{"BC", 0, kGeometry, 0.6289, 1.8892},
-      TableCase{"BC", 2, kGravity23, 0.5964, 1.6945},
-      TableCase{"BC", 4, kGravity25, 0.6166, 1.7021},
-      TableCase{"BC", 10, kHarmonic, 0.6839, 2.0468},
-      TableCase{"BC", 22, kApproach, 0.6818, 2.0182},
-      TableCase{"A", 0, kGeometry, 0.4406, 1.1444},
-      TableCase{"A", 2, kGravity23, 0.4196, 1.2247},
-      TableCase{"A", 4, kGravity25, 0.4203, 1.1990},
-      TableCase{"A", 10, kHarmonic, 0.4067, 1.1719},
-      TableCase{"A", 22, kApproach, 0.4055, 1.1503},
-      TableCase{"B", 0, kGeometry, 0.4587, 2.0280},
-      TableCase{"B", 2, kGravity23, 0.4116, 1.9895},
-      TableCase{"B", 4, kGravity25, 0.4124, 1.9838},
-      TableCase{"B", 10, kHarmonic, 0.4236, 1.9714},
-      TableCase{"B", 22, kApproach, 0.4252, 1.7952},
-      TableCase{"C", 0, kGeometry, 0.4948, 1.5356},
-      TableCase{"C", 2, kGravity23, 0.4870, 1.5325},
-      TableCase{"C", 4, kGravity25, 0.4894, 1.5446},
-      TableCase{"C", 10, kHarmonic, 0.4835, 1.4391},
+      TableCase{"D", 0, kGeometry, 0.4073, 1.3310},    TableCase{"D", 2, kGravity23, 1.3667, 23.4947},
+      TableCase{"D", 4, kGravity25, 7.5357, 133.7990}, TableCase{"D", 10, kHarmonic, 1.6409, 28.4024},
+      TableCase{"D", 22, kApproach, 1.5610, 26.9395},  TableCase{"BC", 0, kGeometry, 0.6289, 1.8892},
+      TableCase{"BC", 2, kGravity23, 0.5964, 1.6945},  TableCase{"BC", 4, kGravity25, 0.6166, 1.7021},
+      TableCase{"BC", 10, kHarmonic, 0.6839, 2.0468},  TableCase{"BC", 22, kApproach, 0.6818, 2.0182},
+      TableCase{"A", 0, kGeometry, 0.4406, 1.1444},    TableCase{"A", 2, kGravity23, 0.4196, 1.2247},
+      TableCase{"A", 4, kGravity25, 0.4203, 1.1990},   TableCase{"A", 10, kHarmonic, 0.4067, 1.1719},
+      TableCase{"A", 22, kApproach, 0.4055, 1.1503},   TableCase{"B", 0, kGeometry, 0.4587, 2.0280},
+      TableCase{"B", 2, kGravity23, 0.4116, 1.9895},   TableCase{"B", 4, kGravity25, 0.4124, 1.9838},
+      TableCase{"B", 10, kHarmonic, 0.4236, 1.9714},   TableCase{"B", 22, kApproach, 0.4252, 1.7952},
+      TableCase{"C", 0, kGeometry, 0.4948, 1.5356},    TableCase{"C", 2, kGravity23, 0.4870, 1.5325},
+      TableCase{"C", 4, kGravity25, 0.4894, 1.5446},   TableCase{"C", 10, kHarmonic, 0.4835, 1.4391},
       TableCase{"C", 22, kApproach, 0.4826, 1.4592},
   };
   return cases;
@@ -167,10 +155,9 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   const Dataset all = ReadDataset(TableDataset(c.series));
   const Robot nominal = Ur10WithTerms(22);
   Robot identified;
-  const EstimationReport report =
-      Estimators()
-          .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
-          ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  const EstimationReport report = Estimators()
+                                      .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
+                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
   std::string chosen;
   for (const auto& candidate : report.details.at("selection").at("candidates")) {
     if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
