@@ -264,6 +264,11 @@ class ErrorModelProblem {
   // prior_kind, prior_sd, reference_sd of the candidates (after MeasureRegressors).
   void AssignPriors();
   JointErrorContext ContextOf(const Workspace& ws) const;
+  // EvaluateRow's steps: the row's actual joint angles into ws->q (drive angles, then the joint errors
+  // with the previous pose's; returns whether it has one), and the Jacobian columns at the row's pose.
+  struct RowPose;
+  bool RowJointAngles(int row, bool jacobian, Workspace* ws) const;
+  void RowJacobian(const RowPose& pose, Workspace* ws, Matrix6Xd* jacobian) const;
 
   Robot start_;
   Robot controller_;
