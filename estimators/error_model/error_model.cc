@@ -189,6 +189,18 @@ double PredictedDecrease(const NormalEquations& ne) {
   return g.dot(llt.solve(g));
 }
 
+void NameWeakParameters(const Eigen::VectorXd& x, const RowWeighting& weighting, PreparedErrorModel* prep) {
+  const ErrorModelProblem& problem = *prep->problem;
+  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting, Accumulate::kNormalEquations, false);
+  const double sigma = DataSigma(ne, problem.num_parameters());
+  if (!(sigma > 0.0)) return;
+  for (const WeakParameter& w : FindWeakParameters(problem, ne.JtJ, sigma)) {
+    const bool known =
+        std::any_of(prep->weak.begin(), prep->weak.end(), [&](const WeakParameter& v) { return v.name == w.name; });
+    if (!known) prep->weak.push_back(w);
+  }
+}
+
 bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
   if (ne.Jtr.size() == 0) return true;
   if (!(sigma > 0.0)) return false;
@@ -291,7 +303,7 @@ void ReportHeldAndWeak(const PreparedErrorModel& prep, EstimationReport* report)
   d["held_parameters"] = held;
   d["prior_noise_m"] = p.has_priors() ? Finite(p.prior_noise()) : nlohmann::json(nullptr);
   nlohmann::json weak = nlohmann::json::array();
-  std::string held_weak, free_weak;
+  std::string held_weak, free_weak, loose_weak;
   for (const auto& w : prep.weak) {
     weak.push_back({{"name", w.name},
                     {"data_sd", Finite(w.data_sd)},
@@ -299,7 +311,7 @@ void ReportHeldAndWeak(const PreparedErrorModel& prep, EstimationReport* report)
                     {"prior", w.has_prior},
                     {"held", w.held},
                     {"trades_against", w.trades_against}});
-    std::string& list = w.held ? held_weak : free_weak;
+    std::string& list = w.held ? held_weak : w.has_prior ? free_weak : loose_weak;
     list += (list.empty() ? "" : ", ") + w.Describe();
   }
   d["weak_parameters"] = weak;
@@ -308,6 +320,12 @@ void ReportHeldAndWeak(const PreparedErrorModel& prep, EstimationReport* report)
         "weakly identifiable without a prior, held at the start value (add poses that move "
         "them, or give them a prior): " +
         held_weak);
+  }
+  if (!loose_weak.empty()) {
+    report->warnings.push_back(
+        "weakly identifiable without a prior, left free where the fit stopped (add poses that move them, or "
+        "give them a prior): " +
+        loose_weak);
   }
   // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
   if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;

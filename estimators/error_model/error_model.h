@@ -73,6 +73,10 @@ void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, d
 bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
                         Eigen::VectorXd* x);
 
+// At a point where the fit stopped without converging: adds to prep->weak the parameters the data
+// determine worse than their reference there (FindWeakParameters), held or not, so that none goes unnamed.
+void NameWeakParameters(const Eigen::VectorXd& x, const RowWeighting& weighting, PreparedErrorModel* prep);
+
 // The noise standard deviation per residual at x: sqrt(sum w rho' |r|^2 / (m - p)) of the data alone.
 double DataSigma(const NormalEquations& ne, int num_parameters);
 

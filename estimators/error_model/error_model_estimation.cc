@@ -97,6 +97,8 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       if (!converged(run)) break;
     }
   }
+  // Stopped short of the minimum: the parameters weak there are named all the same.
+  if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run)) NameWeakParameters(x, weighting, &prep);
   report->status = run.status;
   report->message = run.message;
   report->iterations = iterations;
