@@ -451,7 +451,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
         const bool all_oriented = e.orientation.size() == test.rows.size();
         std::vector<double> position, orientation;
         for (const MeasuredIsoPose& p : MeasuredIso9283(
-                 d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
+                 d.nominal, identified, test, {spec.iso.tolerance, spec.iso.angle_tolerance}, spec.iso.min_cycles)) {
           iso.iso.push_back({p.pose, p.stats});
           for (int r : p.rows) {
             position.push_back(e.position[r]);

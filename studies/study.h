@@ -104,6 +104,15 @@ struct KnobSweep {
   std::vector<std::string> texts;  // as written in the study file
 };
 
+// A measured dataset's `iso9283:` map (keys and requirements: Table(), studies/study_options.cc).
+struct MeasuredIso9283Spec {
+  double tolerance = 0.2e-3;                    // m: controller poses this close are one commanded pose
+  double angle_tolerance = 0.1 * M_PI / 180.0;  // rad
+  int min_cycles = 2;                           // visits that make a pose repeated
+  static const OptionTable<MeasuredIso9283Spec>& Table();
+  bool IsValid(std::string* why) const { return Table().Validate(*this, why); }
+};
+
 struct DatasetSpec {
   enum class Split { kColumn, kFraction, kEvery };
   std::string name;
@@ -125,9 +134,7 @@ struct DatasetSpec {
   // Measured data: ISO 9283 of the test rows' repeated poses (studies/measured_iso9283.h), validation
   // "iso9283" of compensator "-".
   bool iso9283 = false;
-  double iso_tolerance = 0.2e-3;                    // m
-  double iso_angle_tolerance = 0.1 * M_PI / 180.0;  // rad
-  int iso_min_cycles = 2;
+  MeasuredIso9283Spec iso;
   std::string summary;  // one line for the report
 };
 
@@ -145,12 +152,15 @@ struct CompensatorSpec {
   std::string options_yaml;
 };
 
+// A validation set's `iso9283:` map (keys and requirements: Table(), studies/study_options.cc).
 struct Iso9283Spec {
   double side = 0.2;                     // m
   Eigen::VectorXd center_configuration;  // rad; empty = searched
   int cycles = 30;
   double joint_noise = 0.001 * M_PI / 180.0;  // rad
   double measurement_noise = 0.0;             // m
+  static const OptionTable<Iso9283Spec>& Table();
+  bool IsValid(std::string* why) const { return Table().Validate(*this, why); }
 };
 
 struct ValidationSpec {
