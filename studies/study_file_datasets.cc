@@ -13,9 +13,9 @@ void ReadSimulator(const Reader& r, const YAML::Node& node, const std::string& k
   r.ExpectMap(node, key);
   const SimulateOptions read = ReadOptions(r, SimulateOptions::Table(), node, key);
   const SimulatorOptions& o = d->simulator = read.simulator;
-  // What the table cannot know: the robot's joint count.
+  // What the table cannot know: the robot's joint count. (An empty list is the default, as documented.)
   const auto k = [&](const char* name) { return Reader::Join(key, name); };
-  if (node["start"] && o.start.size() != dof) {
+  if (o.start.size() != 0 && o.start.size() != dof) {
     r.Fail(node["start"], k("start"),
            "expected " + std::to_string(dof) + " angles (deg), got " + std::to_string(o.start.size()));
   }
