@@ -10,10 +10,9 @@
 
 #include "estimators/estimator.h"
 #include "framework/dataset.h"
-#include "robot/simulator.h"
 #include "studies/results_files.h"
 #include "studies/runner.h"
-#include "tests/support/test_util.h"
+#include "tests/studies/study_test_util.h"
 
 namespace kincal {
 namespace {
@@ -42,12 +41,7 @@ double Relative(double a, double b) { return std::abs(a - b) / std::max(std::abs
 
 TEST(StudyPriorsTest, ReportCarriesTheEstimatorsPriorColumns) {
   TempDir tmp;
-  SimulatorOptions o;
-  o.protocol = "random";
-  o.poses = 30;
-  o.noise_sigma = 20e-6;
-  o.seed = 3;
-  Dataset simulated = Simulate(testing::SeedNominal(), testing::SeedTruth(), o);
+  Dataset simulated = testing::SeedMeasurements(30, 20e-6, 3);
   for (size_t i = 0; i < simulated.rows.size(); ++i) simulated.rows[i].split = i % 4 == 3 ? Split::kTest : Split::kTrain;
   WriteDataset(simulated, tmp.path("measured.csv"));
   const std::string nominal_path = testing::SourcePath("examples/robots/seed_nominal.yaml");
