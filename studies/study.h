@@ -4,7 +4,9 @@
 // same metrics on the same validation targets.
 //
 // Study file (v1). Lengths are numbers in mm or carry a unit ("10um", "0.5mm", "0.001m"); angles are
-// degrees; paths are relative to the study file. Unknown keys are errors naming the key, line and column.
+// degrees; paths are relative to the study file. Unknown keys, wrong types and values out of range are
+// errors naming the key, line and column. The settings, `simulate` and the `iso9283` maps are declared
+// once, in option tables (studies/study_options.h).
 //
 //   name: seed_comparison          # required; the report's title
 //   description: free text         # optional

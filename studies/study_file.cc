@@ -6,6 +6,7 @@
 #include "framework/atomic_file.h"
 #include "robot/robot_file.h"
 #include "studies/study_file_reader.h"
+#include "studies/study_options.h"
 
 namespace kincal {
 namespace study_file {
@@ -48,13 +49,15 @@ void ReadSettings(const Reader& r, const YAML::Node& root, Study* s) {
   if (!root["name"]) r.Fail(root, "name", "missing key (the study's name)");
   s->name = r.String(root["name"], "name");
   if (root["description"]) s->description = r.String(root["description"], "description");
-  if (root["seed"]) {
-    const double seed = r.Number(root["seed"], "seed");
-    if (seed != std::floor(seed) || seed < 0 || seed > 9.0e15) r.Fail(root["seed"], "seed", "expected an integer >= 0");
-    s->seed = static_cast<uint64_t>(seed);
+  // The settings' keys alone, as their table reads them (the nodes keep their places in the file).
+  YAML::Node settings(YAML::NodeType::Map);
+  for (const OptionDoc& d : StudySettings::Table().Docs()) {
+    if (root[d.key]) settings[d.key] = root[d.key];
   }
-  if (root["trials"]) s->trials = r.Integer(root["trials"], "trials", 1);
-  if (root["threads"]) s->threads = r.Integer(root["threads"], "threads", 0);
+  const StudySettings read = study_file::ReadOptions(r, StudySettings::Table(), settings, "");
+  s->seed = read.seed;
+  s->trials = read.trials;
+  s->threads = read.threads;
 }
 
 void ReadRobots(const Reader& r, const YAML::Node& root, const std::string& source_path, Study* s) {

@@ -21,6 +21,25 @@ Eigen::VectorXd Radians(const std::vector<double>& deg) {
 
 }  // namespace
 
+const OptionTable<StudySettings>& StudySettings::Table() {
+  using O = StudySettings;
+  static const OptionTable<O> table =
+      OptionTable<O>("study")
+          .Add<double>(
+              "seed", [](const O& o) { return static_cast<double>(o.seed); },
+              [](O* o, const double& seed) {
+                // Integers up to 9e15 are exact in a double, as YAML numbers are read.
+                if (seed != std::floor(seed) || seed < 0 || seed > 9.0e15) {
+                  throw std::invalid_argument("expected an integer >= 0");
+                }
+                o->seed = static_cast<uint64_t>(seed);
+              },
+              "every random stream derives from it")
+          .Add("trials", &O::trials, "Monte Carlo trials (new noise, new random poses each)", AtLeast(1))
+          .Add("threads", &O::threads, "worker threads, 0: every core (`--threads` overrides)", AtLeast(0));
+  return table;
+}
+
 const OptionTable<SimulateOptions>& SimulateOptions::Table() {
   using O = SimulateOptions;
   const Requirement<std::vector<double>> xyz = [](const std::vector<double>& v) {
@@ -70,7 +89,8 @@ const OptionTable<Iso9283Spec>& Iso9283Spec::Table() {
 }
 
 std::vector<std::pair<std::string, std::vector<OptionDoc>>> StudyOptionDocs() {
-  return {{"datasets[].simulate", SimulateOptions::Table().Docs()},
+  return {{"(top level)", StudySettings::Table().Docs()},
+          {"datasets[].simulate", SimulateOptions::Table().Docs()},
           {"datasets[].iso9283", MeasuredIso9283Spec::Table().Docs()},
           {"validation[].iso9283", Iso9283Spec::Table().Docs()}};
 }

@@ -43,6 +43,8 @@ TEST(StudyOptions, OutOfRangeValuesNameTheKeyLineAndColumn) {
   EXPECT_EQ(ParseError(Study("poses: 0")), "study.yaml:9:14: datasets[0].simulate.poses: must be >= 1, got '0'");
   EXPECT_EQ(ParseError(Study("protocol_: random")).find("study.yaml:9:7: datasets[0].simulate.protocol_: unknown key"),
             0u);
+  EXPECT_EQ(ParseError("seed: -3\n" + Study("poses: 5")), "study.yaml:1:7: seed: expected an integer >= 0");
+  EXPECT_EQ(ParseError("threads: -1\n" + Study("poses: 5")), "study.yaml:1:10: threads: must be >= 0, got '-1'");
   EXPECT_EQ(ParseError(Study("poses: 5", "{side: 150mm, cycles: 1}")),
             "study.yaml:13:36: validation[1].iso9283.cycles: must be >= 2, got '1'");
   EXPECT_EQ(ParseError(Study("poses: 5", "{joint_noise: -0.1}")),
@@ -122,7 +124,7 @@ TEST(StudyOptions, IsValidChecksWhatTheFileReaderChecks) {
 // what the parser reads, in the file's units.
 TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
   const auto docs = StudyOptionDocs();
-  ASSERT_EQ(docs.size(), 3u);
+  ASSERT_EQ(docs.size(), 4u);
   const auto map_of = [](const std::vector<OptionDoc>& section) {
     std::string map;
     for (const OptionDoc& d : section) {
@@ -132,16 +134,22 @@ TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
     }
     return "{" + map + "}";
   };
-  EXPECT_EQ(docs[0].first, "datasets[].simulate");
-  EXPECT_EQ(docs[2].first, "validation[].iso9283");
+  EXPECT_EQ(docs[1].first, "datasets[].simulate");
+  EXPECT_EQ(docs[3].first, "validation[].iso9283");
+  std::string top;  // the top level's settings, one line each
+  for (const OptionDoc& d : docs[0].second) top += d.key + ": " + d.default_value + "\n";
   const testing::TestRegistries registries = testing::MakeTestRegistries(testing::SeedTruth());
   const kincal::Study s =
-      ParseStudy("name: docs\n" + SeedRobotsYaml() + "datasets:\n  - {name: d, simulate: " + map_of(docs[0].second) +
+      ParseStudy("name: docs\n" + top + SeedRobotsYaml() + "datasets:\n  - {name: d, simulate: " + map_of(docs[1].second) +
                      // (a measured dataset's file is only checked readable when parsing)
                      "}\n  - {name: m, file: " + testing::SourcePath("examples/studies/README.md") +
-                     ", split: {every: 2}, iso9283: " + map_of(docs[1].second) + "}\n" +
-                     "validation:\n  - {name: cube, iso9283: " + map_of(docs[2].second) + "}\n",
+                     ", split: {every: 2}, iso9283: " + map_of(docs[2].second) + "}\n" +
+                     "validation:\n  - {name: cube, iso9283: " + map_of(docs[3].second) + "}\n",
                  "study.yaml", registries.view());
+  const StudySettings settings;
+  EXPECT_EQ(s.seed, settings.seed);
+  EXPECT_EQ(s.trials, settings.trials);
+  EXPECT_EQ(s.threads, settings.threads);
   const SimulatorOptions& o = s.datasets[0].simulator;
   const SimulatorOptions defaults;
   EXPECT_EQ(o.protocol, defaults.protocol);
