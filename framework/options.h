@@ -25,7 +25,11 @@ namespace kincal {
 class OptionsError : public std::invalid_argument {
  public:
   OptionsError(const std::string& message, std::string key, int line, int column, std::string reason)
-      : std::invalid_argument(message), key_(std::move(key)), line_(line), column_(column), reason_(std::move(reason)) {}
+      : std::invalid_argument(message),
+        key_(std::move(key)),
+        line_(line),
+        column_(column),
+        reason_(std::move(reason)) {}
   const std::string& key() const { return key_; }
   int line() const { return line_; }      // 1-based; 0 when unknown
   int column() const { return column_; }  // 1-based; 0 when unknown

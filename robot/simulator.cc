@@ -22,7 +22,8 @@ const OptionTable<SimulatorOptions>& SimulatorOptions::Table() {
                OneOf({"sweep", "random"}))
           .Add("poses", &O::poses, "random protocol: number of configurations", AtLeast(1))
           .Add("stops", &O::stops, "sweep protocol: stops per joint (two at least, to move it)", AtLeast(2))
-          .Add("step", OptionUnit::kAngleDeg, &O::step, "sweep protocol: angle between stops", Requirement<double>(finite))
+          .Add("step", OptionUnit::kAngleDeg, &O::step, "sweep protocol: angle between stops",
+               Requirement<double>(finite))
           .Add<std::vector<double>>(
               "start",
               [](const O& o) {
@@ -36,12 +37,12 @@ const OptionTable<SimulatorOptions>& SimulatorOptions::Table() {
               },
               "sweep protocol: the calibration configuration, deg, one per joint (default zeros)")
           .Add<std::vector<double>>(
-              "order",
-              [](const O& o) { return std::vector<double>(o.sweep_order.begin(), o.sweep_order.end()); },
+              "order", [](const O& o) { return std::vector<double>(o.sweep_order.begin(), o.sweep_order.end()); },
               [](O* o, const std::vector<double>& joints) {
                 o->sweep_order.clear();
                 for (double j : joints) {
-                  if (j != std::floor(j) || j < 1 || j > 1e6) throw std::invalid_argument("expected joint numbers 1..n");
+                  if (j != std::floor(j) || j < 1 || j > 1e6)
+                    throw std::invalid_argument("expected joint numbers 1..n");
                   o->sweep_order.push_back(static_cast<int>(j));
                 }
               },

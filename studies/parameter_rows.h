@@ -19,10 +19,10 @@ struct ParameterRow {
   std::string unit;
   double nominal = NAN, estimate = NAN, stddev = NAN, truth = NAN;
   // From the last estimator of the pipeline that estimated the parameter (NaN / false / "" otherwise).
-  double prior_sd = NAN;     // the prior's sd, NaN without a prior
-  double data_sd = NAN;      // the sd the data alone give (stddev is the posterior's with a prior)
-  double data_share = NAN;   // 1 - stddev^2 / prior_sd^2: the share of the information from the data
-  bool weak = false;         // weakly identifiable (data_sd above the prior's or its kind's reference sd)
+  double prior_sd = NAN;       // the prior's sd, NaN without a prior
+  double data_sd = NAN;        // the sd the data alone give (stddev is the posterior's with a prior)
+  double data_share = NAN;     // 1 - stddev^2 / prior_sd^2: the share of the information from the data
+  bool weak = false;           // weakly identifiable (data_sd above the prior's or its kind's reference sd)
   std::string trades_against;  // a weak parameter's partners, space-separated
 };
 

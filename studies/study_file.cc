@@ -105,7 +105,8 @@ void ReadPipelines(const Reader& r, const YAML::Node& root, const EstimatorRegis
     PipelineSpec p = study_file::ReadPipeline(r, node, key, registry);
     for (size_t k = 0; k < p.datasets.size(); ++k) {
       const auto& datasets = s->datasets;
-      if (std::none_of(datasets.begin(), datasets.end(), [&](const DatasetSpec& d) { return d.name == p.datasets[k]; })) {
+      if (std::none_of(datasets.begin(), datasets.end(),
+                       [&](const DatasetSpec& d) { return d.name == p.datasets[k]; })) {
         r.Fail(node["datasets"][k], key + ".datasets[" + std::to_string(k) + "]",
                "unknown dataset '" + p.datasets[k] + "'");
       }

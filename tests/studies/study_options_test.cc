@@ -25,16 +25,18 @@ std::string ParseError(const std::string& text) {
 
 // Lines 1-4: name and robots; `datasets` and `validation` follow from line 5.
 std::string Study(const std::string& simulate, const std::string& iso = "{side: 150mm}") {
-  return "name: bad\n" + SeedRobotsYaml() +            // 1-4
-         "datasets:\n"                                 // 5
-         "  - name: d\n"                               // 6
-         "    simulate:\n"                             // 7
-         "      protocol: random\n"                    // 8
-         "      " + simulate + "\n" +                  // 9
-         "validation:\n"                               // 10
-         "  - {name: v, random_targets: 3}\n"          // 11
-         "  - name: cube\n"                            // 12
-         "    iso9283: " + iso + "\n";                 // 13
+  return "name: bad\n" + SeedRobotsYaml() +  // 1-4
+         "datasets:\n"                       // 5
+         "  - name: d\n"                     // 6
+         "    simulate:\n"                   // 7
+         "      protocol: random\n"          // 8
+         "      " +
+         simulate + "\n" +                     // 9
+         "validation:\n"                       // 10
+         "  - {name: v, random_targets: 3}\n"  // 11
+         "  - name: cube\n"                    // 12
+         "    iso9283: " +
+         iso + "\n";  // 13
 }
 
 TEST(StudyOptions, OutOfRangeValuesNameTheKeyLineAndColumn) {
@@ -129,7 +131,8 @@ TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
     std::string map;
     for (const OptionDoc& d : section) {
       std::string value = d.default_value;
-      if (value.size() > 3 && value.compare(value.size() - 3, 3, " mm") == 0) value = value.substr(0, value.size() - 3) + "mm";
+      if (value.size() > 3 && value.compare(value.size() - 3, 3, " mm") == 0)
+        value = value.substr(0, value.size() - 3) + "mm";
       map += (map.empty() ? "" : ", ") + d.key + ": " + value;
     }
     return "{" + map + "}";
@@ -139,13 +142,13 @@ TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
   std::string top;  // the top level's settings, one line each
   for (const OptionDoc& d : docs[0].second) top += d.key + ": " + d.default_value + "\n";
   const testing::TestRegistries registries = testing::MakeTestRegistries(testing::SeedTruth());
-  const kincal::Study s =
-      ParseStudy("name: docs\n" + top + SeedRobotsYaml() + "datasets:\n  - {name: d, simulate: " + map_of(docs[1].second) +
-                     // (a measured dataset's file is only checked readable when parsing)
-                     "}\n  - {name: m, file: " + testing::SourcePath("examples/studies/README.md") +
-                     ", split: {every: 2}, iso9283: " + map_of(docs[2].second) + "}\n" +
-                     "validation:\n  - {name: cube, iso9283: " + map_of(docs[3].second) + "}\n",
-                 "study.yaml", registries.view());
+  const kincal::Study s = ParseStudy("name: docs\n" + top + SeedRobotsYaml() +
+                                         "datasets:\n  - {name: d, simulate: " + map_of(docs[1].second) +
+                                         // (a measured dataset's file is only checked readable when parsing)
+                                         "}\n  - {name: m, file: " + testing::SourcePath("examples/studies/README.md") +
+                                         ", split: {every: 2}, iso9283: " + map_of(docs[2].second) + "}\n" +
+                                         "validation:\n  - {name: cube, iso9283: " + map_of(docs[3].second) + "}\n",
+                                     "study.yaml", registries.view());
   const StudySettings settings;
   EXPECT_EQ(s.seed, settings.seed);
   EXPECT_EQ(s.trials, settings.trials);

@@ -42,7 +42,8 @@ double Relative(double a, double b) { return std::abs(a - b) / std::max(std::abs
 TEST(StudyPriorsTest, ReportCarriesTheEstimatorsPriorColumns) {
   TempDir tmp;
   Dataset simulated = testing::SeedMeasurements(30, 20e-6, 3);
-  for (size_t i = 0; i < simulated.rows.size(); ++i) simulated.rows[i].split = i % 4 == 3 ? Split::kTest : Split::kTrain;
+  for (size_t i = 0; i < simulated.rows.size(); ++i)
+    simulated.rows[i].split = i % 4 == 3 ? Split::kTest : Split::kTrain;
   WriteDataset(simulated, tmp.path("measured.csv"));
   const std::string nominal_path = testing::SourcePath("examples/robots/seed_nominal.yaml");
   const Study study = ParseStudy("name: priors\nrobots: {nominal: " + nominal_path +
