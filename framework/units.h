@@ -1,8 +1,12 @@
 #pragma once
 // Units live at the edges: files carry their units, the library works in SI (metres, radians).
+#include <cmath>
 #include <string>
 
 namespace kincal {
+
+// One degree, in radians: for the places where a format fixes degrees (robot programs, tables).
+inline constexpr double kDegree = M_PI / 180.0;
 
 struct Unit {
   std::string name;    // as written in files: "mm", "deg", ...

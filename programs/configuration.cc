@@ -3,10 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "framework/units.h"
+
 namespace kincal {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 // Signs of the two arm criteria at q: (wrist centre in front of axis 1, wrist centre on the positive side
 // of the line through axes 2 and 3), from the joint axes as the Jacobian gives them.
@@ -35,7 +36,7 @@ void Check(const Robot& robot) {
   if (!ok) throw std::invalid_argument("configuration fields need a robot with 6 revolute joints");
 }
 
-int Quadrant(double q) { return static_cast<int>(std::floor(q / (90 * kDeg) + 1e-12)); }
+int Quadrant(double q) { return static_cast<int>(std::floor(q / (90 * kDegree) + 1e-12)); }
 
 // The per-joint part of a configuration: whether joint j at `angle` agrees with it.
 bool JointAgrees(ConfigurationConvention convention, const std::vector<int>& c, int j, double angle) {
@@ -57,8 +58,8 @@ ConfigurationRules::ConfigurationRules(ConfigurationConvention convention, const
   const Eigen::Vector2d zero = ArmSides(controller, q);
   zero_front_ = zero[0];
   zero_side_ = zero[1];
-  q[1] = -90 * kDeg;
-  q[2] = 90 * kDeg;
+  q[1] = -90 * kDegree;
+  q[2] = 90 * kDegree;
   home_side_ = ArmSides(controller, q)[1];
 }
 

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <map>
 
+#include "framework/units.h"
 #include "programs/program.h"
 
 namespace kincal {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 std::string Upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -23,7 +23,7 @@ std::string Upper(std::string s) {
 Eigen::Vector3d AbcNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
   const double b = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
   const double a = std::atan2(R(1, 0), R(0, 0)), c = std::atan2(R(2, 1), R(2, 2));
-  const Eigen::Vector3d first(a / kDeg, b / kDeg, c / kDeg), second(first[0] + 180, 180 - first[1], first[2] + 180);
+  const Eigen::Vector3d first(a / kDegree, b / kDegree, c / kDegree), second(first[0] + 180, 180 - first[1], first[2] + 180);
   Eigen::Vector3d best;
   double best_distance = INFINITY;
   for (const Eigen::Vector3d& candidate : {first, second}) {
@@ -68,7 +68,7 @@ class KrlFormat final : public ProgramFormat {
 
   std::vector<double> JointNumbers(const ProgramTarget&, const Eigen::VectorXd& q) const override {
     std::vector<double> v(6);
-    for (int k = 0; k < 6; ++k) v[k] = q[k] / kDeg;
+    for (int k = 0; k < 6; ++k) v[k] = q[k] / kDegree;
     return v;
   }
 
@@ -151,14 +151,14 @@ class KrlFormat final : public ProgramFormat {
     if (joints) {
       target.kind = ProgramTarget::Kind::kJoints;
       target.q.resize(6);
-      for (int k = 0; k < 6; ++k) target.q[k] = need("A" + std::to_string(k + 1)) * kDeg;
+      for (int k = 0; k < 6; ++k) target.q[k] = need("A" + std::to_string(k + 1)) * kDegree;
       out->push_back(std::move(target));
       return;
     }
     target.kind = ProgramTarget::Kind::kPose;
     Eigen::Vector3d p, abc;
     for (int k = 0; k < 3; ++k) p[k] = need(std::string(1, "XYZ"[k])) * 1e-3;
-    for (int k = 0; k < 3; ++k) abc[k] = need(std::string(1, "ABC"[k])) * kDeg;
+    for (int k = 0; k < 3; ++k) abc[k] = need(std::string(1, "ABC"[k])) * kDegree;
     const bool s = parts.count("S") != 0, tt = parts.count("T") != 0;
     if (type == "FRAME" && (s || tt)) ThrowAt(path, t, open, "a FRAME has no S and T");
     if (s != tt)

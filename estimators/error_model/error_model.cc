@@ -176,19 +176,38 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
   return true;
 }
 
-bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
+double PredictedDecrease(const NormalEquations& ne) {
   const int p = static_cast<int>(ne.Jtr.size());
-  if (p == 0) return true;
-  if (!(sigma > 0.0) || ne.JtJ.rows() != p) return false;
+  if (p == 0) return 0.0;
+  if (ne.JtJ.rows() != p) return NAN;
   const Eigen::VectorXd d = ne.JtJ.diagonal().cwiseMax(0.0).cwiseSqrt();
-  if (!(d.minCoeff() > 0.0)) return false;
+  if (!(d.minCoeff() > 0.0)) return NAN;
   const Eigen::VectorXd d_inv = d.cwiseInverse();
   const Eigen::LLT<Eigen::MatrixXd> llt(d_inv.asDiagonal() * ne.JtJ * d_inv.asDiagonal());
-  if (llt.info() != Eigen::Success) return false;
+  if (llt.info() != Eigen::Success) return NAN;
   const Eigen::VectorXd g = d_inv.asDiagonal() * ne.Jtr;
-  const double predicted = g.dot(llt.solve(g));
-  return predicted <= 0.01 * sigma * sigma;
+  return g.dot(llt.solve(g));
 }
+
+void NameWeakParameters(const Eigen::VectorXd& x, const RowWeighting& weighting, PreparedErrorModel* prep) {
+  const ErrorModelProblem& problem = *prep->problem;
+  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting, Accumulate::kNormalEquations, false);
+  const double sigma = DataSigma(ne, problem.num_parameters());
+  if (!(sigma > 0.0)) return;
+  for (const WeakParameter& w : FindWeakParameters(problem, ne.JtJ, sigma)) {
+    const bool known =
+        std::any_of(prep->weak.begin(), prep->weak.end(), [&](const WeakParameter& v) { return v.name == w.name; });
+    if (!known) prep->weak.push_back(w);
+  }
+}
+
+bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma) {
+  if (ne.Jtr.size() == 0) return true;
+  if (!(sigma > 0.0)) return false;
+  return PredictedDecrease(ne) <= 0.01 * sigma * sigma;  // NaN compares false
+}
+
+bool InFlatValley(const NormalEquations& ne) { return PredictedDecrease(ne) <= 0.01 * ne.cost; }
 
 Covariance ComputeCovariance(const NormalEquations& ne, int p) {
   Covariance c;
@@ -215,50 +234,44 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   FinishErrorModel(prep, x, AccumulateNormalEquations(*prep.problem, x, weighting), identified, report);
 }
 
-void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const NormalEquations& ne,
-                      Robot* identified, EstimationReport* report) {
-  const ErrorModelProblem& problem = *prep.problem;
-  problem.WriteToRobot(x, identified);
-  const Covariance cov = ComputeCovariance(ne, problem.num_parameters());
-  // The standard deviations from the data alone (the prior's information removed).
-  Eigen::VectorXd data_sd = Eigen::VectorXd::Constant(problem.num_parameters(), NAN);
-  if (ne.JtJ.rows() == problem.num_parameters()) {
-    Eigen::MatrixXd JtJ_data = ne.JtJ;
-    JtJ_data.diagonal() -= PriorInformation(problem);
-    data_sd = DataStddev(problem, JtJ_data, cov.sigma, {});
-  }
+namespace {
 
-  const ErrorModelProblem& p = problem;
-  const auto value_of = [&](const ErrorModelParameter& q, const Robot& robot) -> double {
-    switch (q.group) {
-      case ErrorModelParameter::Group::kJoint:
-      case ErrorModelParameter::Group::kTool:
-      case ErrorModelParameter::Group::kBase:
-        return robot.model().Parameters()[q.model_index];
-      case ErrorModelParameter::Group::kRatio:
-        return robot.drives->ratio[q.joint];
-      case ErrorModelParameter::Group::kJointError:
-        return robot.joint_errors.Coefficients()[q.coefficient];
-      case ErrorModelParameter::Group::kMarker:
-        return robot.MarkerPosition(q.marker)[q.axis];
-      case ErrorModelParameter::Group::kSession: {
-        const Eigen::Isometry3d T = robot.SessionBase(q.session);
-        return q.axis < 3 ? T.translation()[q.axis] : RpyFromRotation(T.linear())[q.axis - 3];
-      }
+// A parameter's value in `robot`, x's report units (the ratio itself, not its scale).
+double ValueOf(const ErrorModelParameter& q, const Robot& robot) {
+  switch (q.group) {
+    case ErrorModelParameter::Group::kJoint:
+    case ErrorModelParameter::Group::kTool:
+    case ErrorModelParameter::Group::kBase:
+      return robot.model().Parameters()[q.model_index];
+    case ErrorModelParameter::Group::kRatio:
+      return robot.drives->ratio[q.joint];
+    case ErrorModelParameter::Group::kJointError:
+      return robot.joint_errors.Coefficients()[q.coefficient];
+    case ErrorModelParameter::Group::kMarker:
+      return robot.MarkerPosition(q.marker)[q.axis];
+    case ErrorModelParameter::Group::kSession: {
+      const Eigen::Isometry3d T = robot.SessionBase(q.session);
+      return q.axis < 3 ? T.translation()[q.axis] : RpyFromRotation(T.linear())[q.axis - 3];
     }
-    return NAN;
-  };
+  }
+  return NAN;
+}
 
-  report->parameters.clear();
+// Every candidate parameter of the problem (free or held) with its value, posterior and data-alone sd,
+// prior sd and the data's share of the information; held ones with their reason.
+std::vector<ParameterEstimate> ParameterEstimates(const PreparedErrorModel& prep, const Robot& identified,
+                                                  const Covariance& cov, const Eigen::VectorXd& data_sd) {
+  const ErrorModelProblem& p = *prep.problem;
   std::map<std::string, int> free_index;
   for (int i = 0; i < p.num_parameters(); ++i) free_index[p.parameters()[i].name] = i;
+  std::vector<ParameterEstimate> out;
   for (const ErrorModelParameter& candidate : p.candidates()) {
     const ErrorModelParameter* q = &candidate;
     ParameterEstimate e;
     e.name = q->name;
     e.unit = ErrorModelProblem::Unit(*q);
-    e.nominal = value_of(*q, prep.input);
-    e.value = value_of(*q, *identified);
+    e.nominal = ValueOf(*q, prep.input);
+    e.value = ValueOf(*q, identified);
     const auto it = free_index.find(q->name);
     e.free = it != free_index.end();
     if (q->prior_sd > 0.0) e.prior_sd = q->prior_sd * p.ReportScale(*q);
@@ -275,10 +288,66 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
         if (h.parameter.name == q->name) e.note = h.reason;
       }
     }
-    report->parameters.push_back(e);
+    out.push_back(e);
   }
+  return out;
+}
+
+// details.held_parameters, prior_noise_m, weak_parameters (and weak_determined_by_prior), and the
+// warning that names the weak parameters held for want of a prior.
+void ReportHeldAndWeak(const PreparedErrorModel& prep, EstimationReport* report) {
+  const ErrorModelProblem& p = *prep.problem;
+  nlohmann::json& d = report->details;
+  nlohmann::json held = nlohmann::json::array();
+  for (const auto& h : p.held()) held.push_back({{"name", h.parameter.name}, {"reason", h.reason}});
+  d["held_parameters"] = held;
+  d["prior_noise_m"] = p.has_priors() ? Finite(p.prior_noise()) : nlohmann::json(nullptr);
+  nlohmann::json weak = nlohmann::json::array();
+  std::string held_weak, free_weak, loose_weak;
+  for (const auto& w : prep.weak) {
+    weak.push_back({{"name", w.name},
+                    {"data_sd", Finite(w.data_sd)},
+                    {"reference_sd", w.reference_sd},
+                    {"prior", w.has_prior},
+                    {"held", w.held},
+                    {"trades_against", w.trades_against}});
+    std::string& list = w.held ? held_weak : w.has_prior ? free_weak : loose_weak;
+    list += (list.empty() ? "" : ", ") + w.Describe();
+  }
+  d["weak_parameters"] = weak;
+  if (!held_weak.empty()) {
+    report->warnings.push_back(
+        "weakly identifiable without a prior, held at the start value (add poses that move "
+        "them, or give them a prior): " +
+        held_weak);
+  }
+  if (!loose_weak.empty()) {
+    report->warnings.push_back(
+        "weakly identifiable without a prior, left free where the fit stopped (add poses that move them, or "
+        "give them a prior): " +
+        loose_weak);
+  }
+  // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
+  if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;
+}
+
+}  // namespace
+
+void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const NormalEquations& ne,
+                      Robot* identified, EstimationReport* report) {
+  const ErrorModelProblem& problem = *prep.problem;
+  problem.WriteToRobot(x, identified);
+  const Covariance cov = ComputeCovariance(ne, problem.num_parameters());
+  // The standard deviations from the data alone (the prior's information removed).
+  Eigen::VectorXd data_sd = Eigen::VectorXd::Constant(problem.num_parameters(), NAN);
+  if (ne.JtJ.rows() == problem.num_parameters()) {
+    Eigen::MatrixXd JtJ_data = ne.JtJ;
+    JtJ_data.diagonal() -= PriorInformation(problem);
+    data_sd = DataStddev(problem, JtJ_data, cov.sigma, {});
+  }
+  report->parameters = ParameterEstimates(prep, *identified, cov, data_sd);
   report->fixed_parameters.clear();
-  for (const auto& h : p.held()) {
+  for (const auto& h : problem.held()) {
     if (h.unidentifiable) report->fixed_parameters.push_back(h.parameter.name);
   }
   const IdentifiabilityAnalysis& a = prep.identifiability;
@@ -287,7 +356,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
   for (const auto& w : prep.warnings) report->warnings.push_back(w);
 
   nlohmann::json& d = report->details;
-  d["free_parameters"] = p.num_parameters();
+  d["free_parameters"] = problem.num_parameters();
   d["residuals"] = ne.num_residuals;
   d["degrees_of_freedom"] = cov.degrees_of_freedom;
   d["sigma_m"] = Finite(cov.sigma);
@@ -301,31 +370,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
       {"O3", a.observability.o3}, {"O4", a.observability.o4},
       {"O5", a.observability.o5}, {"scaling", "characteristic: 1 mm, 1 mrad, 1e-3 ratio scale; O1, O3, O4, O5 in m"}};
   d["condition_number_scaling"] = "unit column norms";
-  nlohmann::json held = nlohmann::json::array();
-  for (const auto& h : p.held()) held.push_back({{"name", h.parameter.name}, {"reason", h.reason}});
-  d["held_parameters"] = held;
-  d["prior_noise_m"] = problem.has_priors() ? Finite(problem.prior_noise()) : nlohmann::json(nullptr);
-  nlohmann::json weak = nlohmann::json::array();
-  std::string held_weak, free_weak;
-  for (const auto& w : prep.weak) {
-    weak.push_back({{"name", w.name},
-                    {"data_sd", Finite(w.data_sd)},
-                    {"reference_sd", w.reference_sd},
-                    {"prior", w.has_prior},
-                    {"held", w.held},
-                    {"trades_against", w.trades_against}});
-    std::string& list = w.held ? held_weak : free_weak;
-    list += (list.empty() ? "" : ", ") + w.Describe();
-  }
-  d["weak_parameters"] = weak;
-  if (!held_weak.empty()) {
-    report->warnings.push_back(
-        "weakly identifiable without a prior, held at the start value (add poses that move "
-        "them, or give them a prior): " +
-        held_weak);
-  }
-  // Those a prior holds are what priors are for: named in the details and the parameters, not warned of.
-  if (!free_weak.empty()) d["weak_determined_by_prior"] = free_weak;
+  ReportHeldAndWeak(prep, report);
 }
 
 bool FinishIfNothingFree(const PreparedErrorModel& prepared, Robot* identified, EstimationReport* report) {

@@ -73,6 +73,10 @@ void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, d
 bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
                         Eigen::VectorXd* x);
 
+// At a point where the fit stopped without converging: adds to prep->weak the parameters the data
+// determine worse than their reference there (FindWeakParameters), held or not, so that none goes unnamed.
+void NameWeakParameters(const Eigen::VectorXd& x, const RowWeighting& weighting, PreparedErrorModel* prep);
+
 // The noise standard deviation per residual at x: sqrt(sum w rho' |r|^2 / (m - p)) of the data alone.
 double DataSigma(const NormalEquations& ne, int num_parameters);
 
@@ -81,6 +85,15 @@ double DataSigma(const NormalEquations& ne, int num_parameters);
 // below 0.1 standard deviations in the metric of the parameters' covariance (N/sigma^2). A flat valley
 // where a solver ran out of iterations while moving along poorly determined directions passes.
 bool WithinNoiseOfMinimum(const NormalEquations& ne, double sigma);
+
+// The Gauss-Newton decrease of the cost predicted at the point of `ne`, g^T N^-1 g (g = J^T W r, N = J^T W J
+// with the priors), in the cost's units (m^2); NaN where N is not positive definite.
+double PredictedDecrease(const NormalEquations& ne);
+
+// Whether a run that used its budget stopped in a flat valley: what Gauss-Newton predicts is left is at
+// most 1 % of the cost, so the fit is at the bottom in every direction but its poorly determined ones.
+// There the weak analysis (HoldWeakParameters) names them, as at a converged solution.
+bool InFlatValley(const NormalEquations& ne);
 
 struct Covariance {
   Eigen::MatrixXd matrix;  // p x p, sigma^2 (J^T W J)^-1, x's units

@@ -76,6 +76,16 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       run = run_from();
     }
   }
+  // A run that used its budget in a flat valley is at the bottom in every direction but its weak ones:
+  // they are named as at a converged solution, those without a prior held, and the fit starts again from
+  // there with a budget of its own (once: a second flat valley keeps its status).
+  if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run) &&
+      InFlatValley(AccumulateNormalEquations(*prep.problem, x, weighting)) &&
+      HoldWeakParameters(x, weighting, &prep, &x)) {
+    if (FinishIfNothingFree(prep, identified, report)) return;
+    spent = 0;
+    run = run_from();
+  }
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
   if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
     for (int pass = 0; pass < 8; ++pass) {
@@ -87,6 +97,8 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       if (!converged(run)) break;
     }
   }
+  // Stopped short of the minimum: the parameters weak there are named all the same.
+  if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run)) NameWeakParameters(x, weighting, &prep);
   report->status = run.status;
   report->message = run.message;
   report->iterations = iterations;

@@ -82,7 +82,7 @@ const OptionTable<ErrorModelOptions>& ErrorModelOptions::Table() {
           .Add("identifiability_tolerance", &O::identifiability_tolerance,
                "sine below which a Jacobian column counts as dependent", Between(0, 1, true, true))
           .Include(ErrorModelBounds::Table(), &O::bounds)
-          .AddRead({"prior", "on, off or a map", "off",
+          .AddRead({"prior", "on, off or a map", "off (on with select: true)",
                     "Gaussian priors: on (defaults by kind), or sd by kind or name (priors.cc)"},
                    [](OptionsReader* reader, O* o) { ReadPriorOptions(reader, &o->prior); })
           .Document({"prior_noise", "length", "0 m", "noise of the prior's pseudo-residuals; 0: estimated"})
@@ -604,62 +604,83 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
   ws->valid = true;
 }
 
-int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
-                                   Matrix6Xd* jacobian) const {
-  UpdateWorkspace(x, ws);
-  const Measurement& m = data_->rows[row];
+// What RowJacobian needs of the row's pose, from EvaluateRow.
+struct ErrorModelProblem::RowPose {
+  int marker = -1, session = -1;
+  bool has_previous = false, oriented = false;
+  Eigen::Vector3d point, p;  // the marker in the tool frame; its predicted position (measurement frame)
+  Eigen::Isometry3d T_meas_tool;
+  Eigen::Matrix3d orientation_map;  // d(orientation residual) / d(rotation), where oriented
+};
+
+bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) const {
   const int n = start_.dof();
   const Eigen::Map<const Eigen::VectorXd> q_ref(&rows_->q_ref[static_cast<size_t>(row) * n], n);
   ws->qbar = q_ref.cwiseQuotient(ws->scale);
   // Joint errors (models/joint_errors.h eq. 1) with the previous pose's drive angles.
   const bool has_previous = !rows_->has_previous.empty() && rows_->has_previous[row];
-  JointErrorMap& map = ws->joint_error_map;
-  if (joint_errors_active_) {
-    if (has_previous) {
-      ws->qbar_previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n)
-                              .cwiseQuotient(ws->scale);
-    }
-    const JointErrorMap::Want want{jacobian && ratio_block_ >= 0, jacobian && ratio_block_ >= 0 && has_previous,
-                                   jacobian && geometry_block_ >= 0 && gravity_terms_};
-    EvaluateJointErrorMap(ws->joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr, want,
-                          &map);
-    ws->q = map.q;
-  } else {
+  if (!joint_errors_active_) {
     ws->q = ws->qbar;
+    return has_previous;
   }
-  const int marker = rows_->marker[row];
-  const Eigen::Vector3d point = marker >= 0 ? ws->markers[marker] : Eigen::Vector3d::Zero();
+  JointErrorMap& map = ws->joint_error_map;
+  if (has_previous) {
+    ws->qbar_previous =
+        Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n).cwiseQuotient(ws->scale);
+  }
+  const JointErrorMap::Want want{jacobian && ratio_block_ >= 0, jacobian && ratio_block_ >= 0 && has_previous,
+                                 jacobian && geometry_block_ >= 0 && gravity_terms_};
+  EvaluateJointErrorMap(ws->joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr, want,
+                        &map);
+  ws->q = map.q;
+  return has_previous;
+}
+
+int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
+                                   Matrix6Xd* jacobian) const {
+  UpdateWorkspace(x, ws);
+  const Measurement& m = data_->rows[row];
+  RowPose pose;
+  pose.has_previous = RowJointAngles(row, jacobian != nullptr, ws);
+  pose.marker = rows_->marker[row];
+  pose.point = pose.marker >= 0 ? ws->markers[pose.marker] : Eigen::Vector3d::Zero();
   Matrix6Xd& Jm = ws->J_model;
 
-  Eigen::Isometry3d T_meas_tool;
+  Eigen::Isometry3d& T_meas_tool = pose.T_meas_tool;
   if (jacobian) {
-    T_meas_tool = ws->model->ParameterJacobian(ws->q, point, &Jm);
+    T_meas_tool = ws->model->ParameterJacobian(ws->q, pose.point, &Jm);
   } else {
     T_meas_tool = ws->model->ForwardKinematics(ws->q);
   }
-  const int session = rows_->session[row];
-  if (session >= 0) {
+  pose.session = rows_->session[row];
+  if (pose.session >= 0) {
     // T_meas(k)_tool = B_k B_0^-1 T_meas(0)_tool: derivatives rotate with it, the model base drops out.
-    const Eigen::Isometry3d& M = ws->session_from_base0[session];
+    const Eigen::Isometry3d& M = ws->session_from_base0[pose.session];
     T_meas_tool = M * T_meas_tool;
     if (jacobian) {
       Jm.topRows<3>() = M.linear() * Jm.topRows<3>();
       Jm.bottomRows<3>() = M.linear() * Jm.bottomRows<3>();
     }
   }
-  const Eigen::Vector3d p = T_meas_tool * point;
-  residual->head<3>() = p - m.p;
-  const bool oriented = rows_->orientation[row];
-  Eigen::Matrix3d orientation_map;
-  if (oriented) {
+  pose.p = T_meas_tool * pose.point;
+  residual->head<3>() = pose.p - m.p;
+  pose.oriented = rows_->orientation[row];
+  if (pose.oriented) {
     const Eigen::Vector3d phi = RotationLog(T_meas_tool.linear() * m.orientation->toRotationMatrix().transpose());
     residual->tail<3>() = options_.orientation_length * phi;
-    orientation_map = options_.orientation_length * LeftJacobianInverseSO3(phi);
+    pose.orientation_map = options_.orientation_length * LeftJacobianInverseSO3(phi);
   } else {
     residual->tail<3>().setZero();
   }
-  if (!jacobian) return oriented ? 6 : 3;
+  if (jacobian) RowJacobian(pose, ws, jacobian);
+  return pose.oriented ? 6 : 3;
+}
 
+void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6Xd* jacobian) const {
+  const int n = start_.dof();
+  const int session = pose.session, marker = pose.marker;
+  const JointErrorMap& map = ws->joint_error_map;
+  const Matrix6Xd& Jm = ws->J_model;
   Matrix6Xd& J = *jacobian;
   J.setZero(6, num_parameters());
   // The joint columns at the actual angles (measurement frame of the row's session), for the chain rule
@@ -672,7 +693,7 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
       Jq.resize(6, n);
       for (int i = 0; i < n; ++i) Jq.col(i) = Jm.col(joint_parameter_[i]);
     } else {
-      Jq = ws->model->JointJacobian(ws->q, point);
+      Jq = ws->model->JointJacobian(ws->q, pose.point);
       if (session >= 0) {
         const Eigen::Matrix3d& R = ws->session_from_base0[session].linear();
         Jq.topRows<3>() = R * Jq.topRows<3>();
@@ -699,7 +720,7 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
     }
     // qbar_i = q_ref,i / s_i (and the previous pose's likewise), then q = qbar + dq(qbar, qbar_previous).
     Eigen::VectorXd dq_ds = map.dq_dqbar.col(i) * (-ws->qbar[i] / ws->scale[i]);
-    if (has_previous) dq_ds += map.dq_dprevious.col(i) * (-ws->qbar_previous[i] / ws->scale[i]);
+    if (pose.has_previous) dq_ds += map.dq_dprevious.col(i) * (-ws->qbar_previous[i] / ws->scale[i]);
     J.col(c) = Jq * dq_ds;
   }
   if (joint_errors_active_) {
@@ -712,24 +733,23 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   if (marker >= 0) {
     for (int a = 0; a < 3; ++a) {
       const int c = marker_column_[marker][a];
-      if (c >= 0) J.col(c).head<3>() = T_meas_tool.linear().col(a);
+      if (c >= 0) J.col(c).head<3>() = pose.T_meas_tool.linear().col(a);
     }
   }
   if (session >= 0) {
-    const Vector6d& pose = ws->session_pose[session];
-    const Matrix6d Jb = PoseParameterJacobian(pose.head<3>(), pose.tail<3>(), p);
+    const Vector6d& session_pose = ws->session_pose[session];
+    const Matrix6d Jb = PoseParameterJacobian(session_pose.head<3>(), session_pose.tail<3>(), pose.p);
     for (int a = 0; a < 6; ++a) {
       const int c = session_column_[session][a];
       if (c >= 0) J.col(c) = Jb.col(a);
     }
   }
-  if (J.cols() == 0) return oriented ? 6 : 3;  // every parameter held: no columns to map
-  if (oriented) {
-    J.bottomRows<3>() = orientation_map * J.bottomRows<3>();
+  if (J.cols() == 0) return;  // every parameter held: no columns to map
+  if (pose.oriented) {
+    J.bottomRows<3>() = pose.orientation_map * J.bottomRows<3>();
   } else {
     J.bottomRows<3>().setZero();
   }
-  return oriented ? 6 : 3;
 }
 
 void ErrorModelProblem::WriteToRobot(const Eigen::VectorXd& x, Robot* robot) const {

@@ -91,6 +91,7 @@ struct ErrorModelBounds {
 // default 0 = estimated from the residuals at the solution, the fit repeated until it settles).
 struct PriorOptions {
   bool enabled = false;
+  bool given = false;  // the options name `prior` (on, off or a map); selection turns priors on unless given
   std::map<std::string, double> sd;  // by kind or name, SI (joint error kinds: rad of joint offset); 0: none
   double noise = 0.0;                // m; 0: estimated
   // The defaults above by kind; 0 for an unknown kind.
@@ -263,6 +264,11 @@ class ErrorModelProblem {
   // prior_kind, prior_sd, reference_sd of the candidates (after MeasureRegressors).
   void AssignPriors();
   JointErrorContext ContextOf(const Workspace& ws) const;
+  // EvaluateRow's steps: the row's actual joint angles into ws->q (drive angles, then the joint errors
+  // with the previous pose's; returns whether it has one), and the Jacobian columns at the row's pose.
+  struct RowPose;
+  bool RowJointAngles(int row, bool jacobian, Workspace* ws) const;
+  void RowJacobian(const RowPose& pose, Workspace* ws, Matrix6Xd* jacobian) const;
 
   Robot start_;
   Robot controller_;

@@ -68,6 +68,7 @@ void ReadPriorOptions(OptionsReader* reader, PriorOptions* prior) {
     return;
   }
   const YAML::Node value = node["prior"];
+  prior->given = true;
   if (value.IsScalar()) {
     reader->Get("prior", &flag);
     if (flag == "on" || flag == "true" || flag == "yes") {

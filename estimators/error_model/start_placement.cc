@@ -164,11 +164,19 @@ bool RegisterSession(const std::vector<Row>& rows, const std::vector<Slot>& slot
 
 }  // namespace
 
-StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
-                          Robot* robot) {
-  StartPlacement out;
-  if (!options.initialize_bases) return out;
-  KinematicModel& model = robot->model();
+namespace {
+
+// The sessions, marker slots and rows placement works on, from the start robot: a session or slot is free
+// when the options and the model let it move; rows where neither is free are left out.
+struct Gathered {
+  std::vector<Session> sessions;
+  std::vector<Slot> slots;
+  std::vector<Row> rows;
+};
+
+Gathered GatherRows(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
+                    const Robot& robot) {
+  const KinematicModel& model = robot.model();
   const auto free_in_model = [&](const std::string& name) {
     const int j = model.FindParameter(name);
     return j >= 0 && model.FreeMask()[j];
@@ -184,11 +192,9 @@ StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const Er
   const Eigen::Isometry3d T_base_meas = model.base().inverse();
   const Eigen::Isometry3d T_tool_flange = model.tool().inverse();
 
-  std::vector<Session> sessions;
-  std::vector<Slot> slots;
+  Gathered g;
   std::map<int, int> session_index;
   std::map<std::string, int> slot_index;
-  std::vector<Row> rows;
   const std::vector<Dataset::Previous> previous = data.PreviousPoses();
   for (size_t i = 0; i < data.rows.size(); ++i) {
     const Measurement& m = data.rows[i];
@@ -199,9 +205,9 @@ StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const Er
       session.free = m.session == 0 ? base_free
                                     : options.identify_session_bases &&
                                           !Holds(options, "sessions", "session_" + std::to_string(m.session) + "_");
-      session.T_meas_base = m.session == 0 ? model.base() : robot->SessionBase(m.session);
-      s = session_index.emplace(m.session, static_cast<int>(sessions.size())).first;
-      sessions.push_back(session);
+      session.T_meas_base = m.session == 0 ? model.base() : robot.SessionBase(m.session);
+      s = session_index.emplace(m.session, static_cast<int>(g.sessions.size())).first;
+      g.sessions.push_back(session);
     }
     auto k = slot_index.find(m.marker);
     if (k == slot_index.end()) {
@@ -210,91 +216,116 @@ StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const Er
       slot.free = m.marker.empty() ? tool_free
                                    : options.identify_markers && !Holds(options, "markers", "marker_" + m.marker + "_");
       slot.f = m.marker.empty() ? model.tool().translation()
-                                : Eigen::Vector3d(model.tool() * robot->MarkerPosition(m.marker));
-      k = slot_index.emplace(m.marker, static_cast<int>(slots.size())).first;
-      slots.push_back(slot);
+                                : Eigen::Vector3d(model.tool() * robot.MarkerPosition(m.marker));
+      k = slot_index.emplace(m.marker, static_cast<int>(g.slots.size())).first;
+      g.slots.push_back(slot);
     }
-    if (!sessions[s->second].free && !slots[k->second].free) continue;
-    const Eigen::VectorXd q = ActualJointAngles(controller, *robot, data, i, previous);
+    if (!g.sessions[s->second].free && !g.slots[k->second].free) continue;
+    const Eigen::VectorXd q = ActualJointAngles(controller, robot, data, i, previous);
     const Eigen::Isometry3d G = T_base_meas * model.ForwardKinematics(q) * T_tool_flange;
-    rows.push_back({G.linear(), G.translation(), m.p, s->second, k->second});
+    g.rows.push_back({G.linear(), G.translation(), m.p, s->second, k->second});
   }
-  if (rows.empty()) return out;
+  return g;
+}
 
-  // Step 1, then steps 2 and 3 in turn. A session that cannot be registered at all keeps the file's pose.
-  std::vector<bool> degenerate(sessions.size(), false);
-  for (size_t s = 0; s < sessions.size(); ++s) {
-    if (!sessions[s].free) continue;
+// Step 1: each free session's rotation from the linear estimate or, where the poses turn the tool too
+// little for it, registered on the start's points (warned where that leaves markers to place). Returns,
+// per session, whether it could not be registered at all (it is then held at the file's pose).
+std::vector<bool> RegisterSessionsFirst(const std::vector<Row>& rows, const std::vector<Slot>& slots,
+                                        std::vector<Session>* sessions, StartPlacement* out) {
+  std::vector<bool> degenerate(sessions->size(), false);
+  for (size_t s = 0; s < sessions->size(); ++s) {
+    Session& session = (*sessions)[s];
+    if (!session.free) continue;
     Eigen::Matrix3d R;
     if (LinearRotation(rows, static_cast<int>(s), slots, &R)) {
-      sessions[s].T_meas_base.linear() = R;
+      session.T_meas_base.linear() = R;
       continue;
     }
     double change = 0.0;
-    if (!RegisterSession(rows, slots, static_cast<int>(s), &sessions[s], &change)) {  // on the start's points
+    if (!RegisterSession(rows, slots, static_cast<int>(s), &session, &change)) {  // on the start's points
       degenerate[s] = true;
-      sessions[s].free = false;
+      session.free = false;
       continue;
     }
     bool any_free_slot = false;
     for (const Row& r : rows) any_free_slot = any_free_slot || (r.session == static_cast<int>(s) && slots[r.slot].free);
     if (any_free_slot) {
-      out.warnings.push_back("session " + std::to_string(sessions[s].id) +
-                             ": the poses turn the tool too little to place the markers in closed form; the base is "
-                             "registered on the robot file's marker positions first");
+      out->warnings.push_back("session " + std::to_string(session.id) +
+                              ": the poses turn the tool too little to place the markers in closed form; the base is "
+                              "registered on the robot file's marker positions first");
     }
   }
-  SolveTranslationsAndPoints(rows, &sessions, &slots);
-  for (out.rounds = 0; out.rounds < 50;) {
-    ++out.rounds;
-    double change = 0.0;
-    for (size_t s = 0; s < sessions.size(); ++s) {
-      double c = 0.0;
-      if (sessions[s].free && RegisterSession(rows, slots, static_cast<int>(s), &sessions[s], &c)) {
-        change = std::max(change, c);
-      }
-    }
-    SolveTranslationsAndPoints(rows, &sessions, &slots);
-    if (change < 1e-12) break;
-  }
+  return degenerate;
+}
 
-  // Write back.
+// Writes the placed tool, markers, base and session bases into *robot, with the RMS and the notes.
+void WriteBack(const Gathered& g, const std::vector<bool>& degenerate, Robot* robot, StartPlacement* out) {
+  KinematicModel& model = robot->model();
   double sum2 = 0.0;
-  for (const Row& r : rows) sum2 += ((sessions[r.session].T_meas_base * PointInBase(r, slots)) - r.p).squaredNorm();
-  out.rms = std::sqrt(sum2 / rows.size());
+  for (const Row& r : g.rows) {
+    sum2 += ((g.sessions[r.session].T_meas_base * PointInBase(r, g.slots)) - r.p).squaredNorm();
+  }
+  out->rms = std::sqrt(sum2 / g.rows.size());
   Eigen::Isometry3d T_flange_tool = model.tool();
-  for (const Slot& slot : slots) {
+  for (const Slot& slot : g.slots) {
     if (slot.marker.empty() && slot.free) {
       T_flange_tool.translation() = slot.f;
       model.SetTool(T_flange_tool);
-      out.placed.push_back("tool_xyz");
+      out->placed.push_back("tool_xyz");
     }
   }
-  for (const Slot& slot : slots) {
+  for (const Slot& slot : g.slots) {
     if (slot.marker.empty() || !slot.free) continue;
     robot->markers[slot.marker] = T_flange_tool.inverse() * slot.f;
-    out.placed.push_back("marker " + slot.marker);
+    out->placed.push_back("marker " + slot.marker);
   }
-  for (size_t s = 0; s < sessions.size(); ++s) {
-    const Session& session = sessions[s];
+  for (size_t s = 0; s < g.sessions.size(); ++s) {
+    const Session& session = g.sessions[s];
     if (degenerate[s]) {
-      out.warnings.push_back("session " + std::to_string(session.id) +
-                             ": points too few or collinear to register the base; kept the robot file's");
+      out->warnings.push_back("session " + std::to_string(session.id) +
+                              ": points too few or collinear to register the base; kept the robot file's");
     }
     if (!session.free) continue;
     if (session.id == 0) {
       model.SetBase(session.T_meas_base);
-      out.placed.push_back("base");
+      out->placed.push_back("base");
     } else {
       robot->session_bases[session.id] = session.T_meas_base;
-      out.placed.push_back("session " + std::to_string(session.id));
+      out->placed.push_back("session " + std::to_string(session.id));
     }
     const double pitch = RpyFromRotation(session.T_meas_base.linear())[1];
     if (std::abs(std::abs(pitch) - M_PI / 2) < 0.1) {
-      out.warnings.push_back("session " + std::to_string(session.id) +
-                             ": the base pitch is near +-90 deg, where roll and yaw are nearly the same rotation");
+      out->warnings.push_back("session " + std::to_string(session.id) +
+                              ": the base pitch is near +-90 deg, where roll and yaw are nearly the same rotation");
     }
   }
+}
+
+}  // namespace
+
+StartPlacement PlaceStart(const Robot& controller, const Dataset& data, const ErrorModelOptions& options,
+                          Robot* robot) {
+  StartPlacement out;
+  if (!options.initialize_bases) return out;
+  Gathered g = GatherRows(controller, data, options, *robot);
+  if (g.rows.empty()) return out;
+  // Step 1, then steps 2 and 3 in turn. A session that cannot be registered at all keeps the file's pose.
+  const std::vector<bool> degenerate = RegisterSessionsFirst(g.rows, g.slots, &g.sessions, &out);
+  SolveTranslationsAndPoints(g.rows, &g.sessions, &g.slots);
+  for (out.rounds = 0; out.rounds < 50;) {
+    ++out.rounds;
+    double change = 0.0;
+    for (size_t s = 0; s < g.sessions.size(); ++s) {
+      double c = 0.0;
+      if (g.sessions[s].free && RegisterSession(g.rows, g.slots, static_cast<int>(s), &g.sessions[s], &c)) {
+        change = std::max(change, c);
+      }
+    }
+    SolveTranslationsAndPoints(g.rows, &g.sessions, &g.slots);
+    if (change < 1e-12) break;
+  }
+  WriteBack(g, degenerate, robot, &out);
   return out;
 }
 

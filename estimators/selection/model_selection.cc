@@ -12,7 +12,8 @@ const OptionTable<ModelSelectionOptions>& ModelSelectionOptions::Table() {
   using O = ModelSelectionOptions;
   static const OptionTable<O> table =
       OptionTable<O>("model selection")
-          .Add("select", &O::select, "choose the joint-error terms by blocked K-fold cross-validation")
+          .Add("select", &O::select,
+               "choose the joint-error terms by blocked K-fold cross-validation (MAP fits unless prior is given)")
           .Add("select_folds", &O::folds, "K, the folds of the cross-validation", AtLeast(2));
   return table;
 }

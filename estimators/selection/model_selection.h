@@ -32,12 +32,12 @@
 // best (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the start robot
 // with that candidate's terms: the identified robot holds only the chosen terms. Deterministic: no randomness, folds
 // from the row order.
-// With `prior: on` (error_model_problem.h) the folds' geometry fits and the final fit are maximum a
-// posteriori; the candidates' one-step scores use the data's normal equations only. That is the setting
-// that meets the selection criteria on real data carried to another campaign (ur10_ipa2021 B -> C, README
-// "Real data"): least-squares candidates chosen the same way can hold out above geometry there, because
-// cross-validation within one campaign rates terms (harmonic) that the other campaign does not support,
-// and the prior keeps them near their start where the training poses leave them loose.
+// Priors: the folds' geometry fits and the final fit are maximum a posteriori with the default priors
+// (error_model_problem.h, PriorOptions) unless the options give `prior` (on, a map, or `off` for least
+// squares); the candidates' one-step scores use the data's normal equations only. Least-squares fits
+// chosen the same way can hold out above geometry alone on real data (ur10_ipa2021 series B, README "Real
+// data"): cross-validation rates terms the training poses leave loose, and the prior keeps them near
+// their start there.
 #include <string>
 #include <vector>
 

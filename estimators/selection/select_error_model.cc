@@ -32,6 +32,17 @@ struct FoldSums {
   std::map<int, TestSums> test;
 };
 
+// Adds row i (residuals r, Jacobian J, weighted and robustified) to the fold's normal equations.
+template <typename JacobianRows, typename Residuals>
+void AddTrainingRow(const RowWeighting& weighting, int i, const JacobianRows& J, const Residuals& r, FoldSums* s) {
+  double rho = 0.0, rho_prime = 1.0;
+  weighting.loss.Evaluate(r.squaredNorm(), &rho, &rho_prime);
+  const double w = weighting.weight(i) * rho_prime;
+  if (w <= 0.0) return;
+  s->A.noalias() += w * J.transpose() * J;
+  s->b.noalias() += w * J.transpose() * r;
+}
+
 FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& weighting, const std::vector<int>& fold,
                         int k, const std::set<int>& registered_sessions) {
   const int p = problem.num_parameters();
@@ -56,13 +67,10 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
       t.b.noalias() += Jp.transpose() * rp;
       t.c += rp.squaredNorm();
       ++t.rows;
+    } else if (n == 3) {  // sizes fixed at compile time: GCC cannot bound a run-time head(n) of a Vector6d
+      AddTrainingRow(weighting, i, J.topRows<3>(), r.head<3>(), &s);
     } else {
-      double rho = 0.0, rho_prime = 1.0;
-      weighting.loss.Evaluate(r.head(n).squaredNorm(), &rho, &rho_prime);
-      const double w = weighting.weight(i) * rho_prime;
-      if (w <= 0.0) continue;
-      s.A.noalias() += w * J.topRows(n).transpose() * J.topRows(n);
-      s.b.noalias() += w * J.topRows(n).transpose() * r.head(n);
+      AddTrainingRow(weighting, i, J, r, &s);
     }
   }
   return s;
@@ -114,6 +122,8 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
   const int K = options.selection.folds;
   ErrorModelEstimatorOptions fit_options = options;
   fit_options.selection.select = false;
+  // Maximum a posteriori with the default priors unless the options say `prior` (model_selection.h).
+  if (!fit_options.error_model.prior.given) fit_options.error_model.prior.enabled = true;
   const std::vector<SelectionCandidate> candidates = NestedCandidates(start);
   const std::vector<int> fold = BlockedFolds(data, K);
   const RowWeighting weighting = options.weighting.Weighting(data.rows.size(), estimator);

@@ -12,8 +12,9 @@
 //   irb120_faro reflector 1 (irb120_joint_errors.yaml, gravity 2-5 and approach 1-6, with harmonic 1 and 2
 //   and backlash on every joint: the richest file, 0.238 mm): richer is right here; the selected model
 //   within 3 % of the full file's held-out RMS.
-// Selection runs with `prior: on` (MAP fits of the candidates, model_selection.h); the models it is
-// compared with are plain least-squares fits, as in the table. Without the priors, B -> C picks
+// Selection runs as it does by default, its fits maximum a posteriori with the default priors
+// (model_selection.h); the models it is compared with are plain least-squares fits, as in the issue's
+// table. With `prior: off` (measured before fits were analysed in flat valleys) B -> C picked
 // "+ harmonic 2" at 0.632 / 2.31 mm, above geometry's 0.629.
 // On all three, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).
 // Skipped when the data folder is absent.
@@ -24,6 +25,7 @@
 #include "estimators/estimator.h"
 #include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
+#include "tests/estimators/geometric/fanuc_fixture.h"
 #include "tests/estimators/irb120_faro.h"
 #include "tests/estimators/irb120_wu2015.h"
 #include "tests/estimators/ur10_ipa2021.h"
@@ -40,10 +42,7 @@ struct Scored {
 Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test, bool select) {
   YAML::Node options;
   options["max_iterations"] = 200;
-  if (select) {
-    options["select"] = true;
-    options["prior"] = "on";
-  }
+  if (select) options["select"] = true;  // maximum a posteriori unless the options give `prior`
   Robot identified;
   const EstimationReport report = Estimators().Create("least_squares", options)->Estimate(start, train, &identified);
   const PredictionErrors e = EvaluatePredictions(start, identified, test);
@@ -154,6 +153,142 @@ TEST(PredictionUncertaintyRealData, Irb120Wu2015Coverage) {
   const Scored s = FitAndScore(nominal, wu.calibration, wu.test1, false);
   std::printf("irb120_wu2015 test set 1: held-out RMS %.4f mm; coverage %.3f\n", s.rms * 1e3, s.coverage);
   EXPECT_GE(s.coverage, 0.95);
+}
+
+// fanuc_boby2021 (one sweep per joint, 6 stops, three reflectors; the 1st, 3rd and 5th stop of every sweep
+// fit, the others scored), geometry by least squares: 51 of the 54 held-out errors lie within the bound,
+// 94.4 %, below the 95 % the other datasets reach. The three misses are one pose, the three reflectors
+// of the joint-2 sweep's last stop (q2 = 50 deg), 16 deg beyond the stops the fit saw (-30..34 deg),
+// 1.8-1.9 mm off, nearly all vertical: joint 2's compliance under the arm's weight, which geometry cannot
+// represent and the parameters' covariance does not predict (its sd there is 0.19 mm, not beyond the
+// support threshold). Not a defect of the noise estimate or the propagation: adding the gravity of joints
+// 2 and 3 halves that pose's error (0.95 mm max held out, 0.516 -> 0.349 mm RMS).
+TEST(PredictionUncertaintyRealData, FanucCoverageMissesOnlyTheExtrapolatedJoint2Stop) {
+  std::string csv;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(FanucSweepsCsv(SharedDataPath("fanuc_boby2021/sweeps.csv"), true, &csv),
+                                  "no ../shared/data/fanuc_boby2021/sweeps.csv");
+  const Dataset all = ParseDatasetCsv(csv, "fanuc_boby2021 (from sweeps.csv)");
+  const Dataset train = all.Subset(Split::kTrain), test = all.Subset(Split::kTest);
+  const auto fit = [&](const Robot& start, std::vector<double>* errors, std::vector<double>* bound) {
+    Robot identified;
+    const EstimationReport report =
+        Estimators().Create("least_squares", YAML::Load("max_iterations: 200"))->Estimate(start, train, &identified);
+    const PredictionErrors e = EvaluatePredictions(start, identified, test);
+    const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
+    const std::vector<double> sd = PredictionSd(identified, start, test, cov);
+    *errors = e.position;
+    bound->clear();
+    for (double s : sd) bound->push_back(3.0 * std::sqrt(s * s + 3.0 * cov.sigma * cov.sigma));
+    return CheckUncertainty(e.position, sd, cov).coverage;
+  };
+  const Robot geometry = LoadExampleRobot("fanuc_r2000_nominal.yaml");
+  std::vector<double> errors, bound;
+  const double coverage = fit(geometry, &errors, &bound);
+  double q2_trained = -1e9;
+  for (const Measurement& m : train.rows) {
+    if (m.sweep == 2) q2_trained = std::max(q2_trained, m.q[1]);
+  }
+  std::vector<int> misses;
+  for (size_t i = 0; i < errors.size(); ++i) {
+    if (errors[i] > bound[i]) misses.push_back(static_cast<int>(i));
+  }
+  std::printf("fanuc_boby2021, geometry: coverage %.4f (%zu of %zu rows outside the bound)\n", coverage, misses.size(),
+              errors.size());
+  EXPECT_NEAR(coverage, 51.0 / 54.0, 1e-9);
+  ASSERT_EQ(misses.size(), 3u);
+  for (int i : misses) {
+    const Measurement& m = test.rows[i];
+    EXPECT_EQ(m.sweep, 2);
+    EXPECT_GT(m.q[1], q2_trained + 0.2) << "row " << i << " is not beyond the trained joint-2 range";
+    std::printf("  miss: row %d, %s, q2 %.0f deg, error %.3f mm, bound %.3f mm\n", i, m.marker.c_str(),
+                m.q[1] * 180.0 / M_PI, errors[i] * 1e3, bound[i] * 1e3);
+  }
+  // What is missing is compliance: the gravity of joints 2 and 3 halves the error at that pose.
+  Robot gravity = geometry;
+  for (int joint : {1, 2}) {
+    JointErrorTerm term;
+    term.type = JointErrorTerm::Type::kGravity;
+    term.joint = joint;
+    gravity.joint_errors.terms.push_back(term);
+  }
+  gravity.joint_errors.Bind(gravity.model());
+  std::vector<double> errors_gravity, bound_gravity;
+  fit(gravity, &errors_gravity, &bound_gravity);
+  for (int i : misses) EXPECT_LT(errors_gravity[i], 0.55 * errors[i]) << "row " << i;
+}
+
+// `robot` with terms of `type` on the 1-based `joints` (harmonic: orders 1 and 2), bound to its model.
+void AddTerms(Robot* robot, JointErrorTerm::Type type, const std::vector<int>& joints) {
+  for (int joint : joints) {
+    JointErrorTerm term;
+    term.type = type;
+    term.joint = joint - 1;
+    if (type == JointErrorTerm::Type::kHarmonic) term.orders = {1, 2};
+    robot->joint_errors.terms.push_back(term);
+  }
+  robot->joint_errors.Bind(robot->model());
+}
+
+// The README's "selected" rows of irb120_wu2015 and fanuc_boby2021: selection (default, maximum a
+// posteriori) from the richest file these data can carry (gravity of joints 2-5, harmonic orders 1 and 2
+// on every joint; neither dataset moves the arm in a measured sequence that backlash and approach need),
+// beside geometry fitted by least squares as in the README's tables.
+TEST(ModelSelectionRealData, Irb120Wu2015Selected) {
+  Irb120Wu2015 wu;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu),
+                                  "no ../shared/data/irb120_wu2015");
+  Robot geometry = LoadExampleRobot("irb120_mdh.yaml");
+  for (const std::string id : {"p1", "p2", "p3"}) geometry.markers[id] = Eigen::Vector3d::Zero();
+  Robot rich = geometry;
+  AddTerms(&rich, JointErrorTerm::Type::kGravity, {2, 3, 4, 5});
+  AddTerms(&rich, JointErrorTerm::Type::kHarmonic, {1, 2, 3, 4, 5, 6});
+  const auto fit = [&](const Robot& start, bool select, std::string* chosen) {
+    YAML::Node options;
+    options["max_iterations"] = 200;
+    if (select) options["select"] = true;
+    Robot identified;
+    const EstimationReport report =
+        Estimators().Create("least_squares", options)->Estimate(start, wu.calibration, &identified);
+    if (select) {
+      for (const auto& c : report.details.at("selection").at("candidates")) {
+        if (c.at("chosen").get<bool>()) *chosen = c.at("candidate").get<std::string>();
+      }
+    }
+    return std::make_pair(RmsWithTestPointFitted(start, identified, wu.test1),
+                          RmsWithTestPointFitted(start, identified, wu.test2));
+  };
+  std::string chosen;
+  const auto selected = fit(rich, true, &chosen);
+  const auto plain = fit(geometry, false, nullptr);
+  std::printf("irb120_wu2015: selected %s, test set 1 %.4f mm, test set 2 %.4f mm (geometry %.4f / %.4f)\n",
+              chosen.c_str(), selected.first * 1e3, selected.second * 1e3, plain.first * 1e3, plain.second * 1e3);
+  EXPECT_EQ(chosen, "+ gravity 2");
+  EXPECT_NEAR(selected.first * 1e3, 0.1364, 0.002);
+  EXPECT_NEAR(selected.second * 1e3, 0.1580, 0.002);
+  EXPECT_LT(selected.first, plain.first);
+  EXPECT_LT(selected.second, plain.second);
+}
+
+TEST(ModelSelectionRealData, FanucSelected) {
+  std::string csv;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(FanucSweepsCsv(SharedDataPath("fanuc_boby2021/sweeps.csv"), true, &csv),
+                                  "no ../shared/data/fanuc_boby2021/sweeps.csv");
+  const Dataset all = ParseDatasetCsv(csv, "fanuc_boby2021 (from sweeps.csv)");
+  const Dataset train = all.Subset(Split::kTrain), test = all.Subset(Split::kTest);
+  const Robot geometry = LoadExampleRobot("fanuc_r2000_nominal.yaml");
+  Robot rich = geometry;
+  AddTerms(&rich, JointErrorTerm::Type::kGravity, {2, 3, 4, 5});
+  AddTerms(&rich, JointErrorTerm::Type::kHarmonic, {1, 2, 3, 4, 5, 6});
+  const Scored selected = FitAndScore(rich, train, test, true);
+  const Scored plain = FitAndScore(geometry, train, test, false);
+  std::printf("fanuc_boby2021: selected %s, held-out RMS %.4f mm, max %.4f mm (geometry %.4f / %.4f); coverage %.4f\n",
+              selected.chosen.c_str(), selected.rms * 1e3, selected.max * 1e3, plain.rms * 1e3, plain.max * 1e3,
+              selected.coverage);
+  EXPECT_EQ(selected.chosen, "+ gravity 2");
+  EXPECT_NEAR(selected.rms * 1e3, 0.2742, 0.002);
+  EXPECT_NEAR(selected.max * 1e3, 0.8742, 0.01);
+  EXPECT_LT(selected.rms, plain.rms);
+  EXPECT_LE(selected.max, 1.5 * plain.max);
 }
 
 }  // namespace

@@ -14,18 +14,8 @@ namespace kincal {
 namespace {
 
 using testing::CentralDifference;
+using testing::RandomizedModel;
 using T = JointErrorTerm::Type;
-
-std::unique_ptr<KinematicModel> Randomized(std::unique_ptr<KinematicModel> model, uint64_t seed) {
-  Rng rng(seed);
-  Eigen::VectorXd p = model->Parameters();
-  for (int i = 0; i < p.size(); ++i) {
-    const bool angle = model->parameter_info()[i].kind == ParameterInfo::Kind::kAngle;
-    p[i] = angle ? rng.Uniform(-1.5, 1.5) : rng.Uniform(-0.5, 0.5);
-  }
-  model->SetParameters(p);
-  return model;
-}
 
 JointErrorTerm Term(T type, int joint, std::vector<int> orders = {}) {
   JointErrorTerm t;
@@ -53,7 +43,7 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.label; }
 class JointErrorRegressors : public ::testing::TestWithParam<Case> {};
 
 TEST_P(JointErrorRegressors, DerivativesMatchCentralDifferences) {
-  const auto model = Randomized(GetParam().make(), 7);
+  const auto model = RandomizedModel(GetParam().make(), 7);
   const JointErrors errors = AllTypes(*model);
   const Eigen::VectorXd v = (Eigen::VectorXd(6) << 2.0, 2.5, 3.0, 4.0, 5.0, 6.0).finished();
   JointErrorContext context;
@@ -82,7 +72,7 @@ TEST_P(JointErrorRegressors, DerivativesMatchCentralDifferences) {
 }
 
 TEST_P(JointErrorRegressors, MapDerivativesFollowTheCoefficients) {
-  const auto model = Randomized(GetParam().make(), 8);
+  const auto model = RandomizedModel(GetParam().make(), 8);
   JointErrors errors = AllTypes(*model);
   Rng rng(3);
   Eigen::VectorXd c(errors.num_coefficients());
@@ -187,7 +177,7 @@ TEST(JointErrors, GravityRegressorsGiveTheTorqueOfPointMasses) {
 // they are (rad); approach regressors are speeds in rad/s (coefficient in s).
 TEST(JointErrors, CoefficientKindsAreTheRegressorsDimensions) {
   using Kind = JointErrorTerm::CoefficientKind;
-  const auto model = Randomized(std::make_unique<MdhModel>(6), 31);
+  const auto model = RandomizedModel(std::make_unique<MdhModel>(6), 31);
   auto doubled = model->Clone();
   Eigen::VectorXd p = model->Parameters();
   for (int i = 0; i < p.size(); ++i) {

@@ -14,24 +14,13 @@ namespace kincal {
 namespace {
 
 using testing::CentralDifference;
+using testing::RandomizedModel;
 
 struct ModelCase {
   std::string label;
   std::function<std::unique_ptr<KinematicModel>()> make;
 };
 void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.label; }
-
-// Random but reproducible geometry, base and tool, so that no derivative is tested at a special value.
-std::unique_ptr<KinematicModel> Randomized(std::unique_ptr<KinematicModel> model, uint64_t seed) {
-  Rng rng(seed);
-  Eigen::VectorXd p = model->Parameters();
-  for (int i = 0; i < p.size(); ++i) {
-    const bool angle = model->parameter_info()[i].kind == ParameterInfo::Kind::kAngle;
-    p[i] = angle ? rng.Uniform(-1.5, 1.5) : rng.Uniform(-0.5, 0.5);
-  }
-  model->SetParameters(p);
-  return model;
-}
 
 class ModelConformance : public ::testing::TestWithParam<ModelCase> {
  protected:
@@ -162,9 +151,9 @@ TEST_P(ModelConformance, ParametersByName) {
 // Converting any model to local POE keeps its forward kinematics for every q.
 TEST(PoeConversion, SameForwardKinematicsAsTheSourceModel) {
   for (uint64_t seed = 11; seed < 14; ++seed) {
-    const auto mdh = Randomized(std::make_unique<MdhModel>(6), seed);
-    const auto dh = Randomized(std::make_unique<DhModel>(6), seed + 10);
-    const auto rpr = Randomized(std::make_unique<MdhModel>(std::vector<JointType>{
+    const auto mdh = RandomizedModel(std::make_unique<MdhModel>(6), seed);
+    const auto dh = RandomizedModel(std::make_unique<DhModel>(6), seed + 10);
+    const auto rpr = RandomizedModel(std::make_unique<MdhModel>(std::vector<JointType>{
                                     JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                 seed + 20);
     for (const KinematicModel* source : {mdh.get(), dh.get(), rpr.get()}) {
@@ -182,34 +171,34 @@ TEST(PoeConversion, SameForwardKinematicsAsTheSourceModel) {
 INSTANTIATE_TEST_SUITE_P(
     AllModels, ModelConformance,
     ::testing::Values(
-        ModelCase{"mdh6", [] { return Randomized(std::make_unique<MdhModel>(6), 1); }},
-        ModelCase{"dh6", [] { return Randomized(std::make_unique<DhModel>(6), 2); }},
-        ModelCase{"hayati6", [] { return Randomized(std::make_unique<HayatiModel>(6), 7); }},
-        ModelCase{"poe6", [] { return Randomized(std::make_unique<PoeModel>(6), 8); }},
+        ModelCase{"mdh6", [] { return RandomizedModel(std::make_unique<MdhModel>(6), 1); }},
+        ModelCase{"dh6", [] { return RandomizedModel(std::make_unique<DhModel>(6), 2); }},
+        ModelCase{"hayati6", [] { return RandomizedModel(std::make_unique<HayatiModel>(6), 7); }},
+        ModelCase{"poe6", [] { return RandomizedModel(std::make_unique<PoeModel>(6), 8); }},
         ModelCase{"poe_rpr",
                   [] {
-                    return Randomized(std::make_unique<PoeModel>(std::vector<JointType>{
+                    return RandomizedModel(std::make_unique<PoeModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       9);
                   }},
-        ModelCase{"urdf6", [] { return Randomized(std::make_unique<UrdfModel>(6), 10); }},
+        ModelCase{"urdf6", [] { return RandomizedModel(std::make_unique<UrdfModel>(6), 10); }},
         ModelCase{"urdf_rpr",
                   [] {
-                    return Randomized(std::make_unique<UrdfModel>(std::vector<JointType>{
+                    return RandomizedModel(std::make_unique<UrdfModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       12);
                   }},
-        ModelCase{"mdh3", [] { return Randomized(std::make_unique<MdhModel>(3), 3); }},
-        ModelCase{"mdh7", [] { return Randomized(std::make_unique<MdhModel>(7), 4); }},
+        ModelCase{"mdh3", [] { return RandomizedModel(std::make_unique<MdhModel>(3), 3); }},
+        ModelCase{"mdh7", [] { return RandomizedModel(std::make_unique<MdhModel>(7), 4); }},
         ModelCase{"mdh_rrp",
                   [] {
-                    return Randomized(std::make_unique<MdhModel>(std::vector<JointType>{
+                    return RandomizedModel(std::make_unique<MdhModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kRevolute, JointType::kPrismatic}),
                                       5);
                   }},
         ModelCase{"dh_rpr",
                   [] {
-                    return Randomized(std::make_unique<DhModel>(std::vector<JointType>{
+                    return RandomizedModel(std::make_unique<DhModel>(std::vector<JointType>{
                                           JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
                                       6);
                   }}),

@@ -8,12 +8,14 @@
 //   and the source's Euler angles read as intrinsic XYZ (the extrinsic reading leaves degrees);
 // - ISO 9283 of series D's repeated poses through examples/studies/ur10_ipa2021.yaml, and the same AP
 //   from the data's own commanded poses (Goal columns) registered rigidly onto the measured ones.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -108,30 +110,36 @@ const char* kGravity25 = "+ gravity 2-5";
 const char* kHarmonic = "+ harmonic 1, 2";
 const char* kApproach = "+ approach, backlash";
 
-// B -> C with the harmonic terms stops at the iteration limit in a flat valley, where the start moves the
-// end point: with the tool turned +90 deg about z instead of -90 (positions do not see that rotation) it
-// ends at 1.348 / 12.1 mm, and the issue measured 1.36 / 12.8; its tolerance says so.
-INSTANTIATE_TEST_SUITE_P(
-    Rows, Ur10Table,
-    ::testing::Values(TableCase{"D", 0, kGeometry, 0.4073, 1.3310}, TableCase{"D", 2, kGravity23, 1.3667, 23.495},
-                      TableCase{"D", 4, kGravity25, 7.5357, 133.799}, TableCase{"D", 10, kHarmonic, 5.3826, 95.462},
-                      TableCase{"D", 22, kApproach, 1.4207, 24.386}, TableCase{"BC", 0, kGeometry, 0.6289, 1.8892},
-                      TableCase{"BC", 2, kGravity23, 0.5964, 1.6945}, TableCase{"BC", 4, kGravity25, 0.6166, 1.7021},
-                      TableCase{"BC", 10, kHarmonic, 1.3410, 11.768, 0.01, 0.5},
-                      TableCase{"BC", 22, kApproach, 0.8459, 2.6031}, TableCase{"A", 0, kGeometry, 0.4406, 1.1444},
-                      TableCase{"A", 2, kGravity23, 0.4196, 1.2247}, TableCase{"A", 4, kGravity25, 0.4203, 1.1990},
-                      TableCase{"A", 10, kHarmonic, 0.4067, 1.1719}, TableCase{"A", 22, kApproach, 0.4055, 1.1503},
-                      TableCase{"B", 0, kGeometry, 0.4594, 2.0306}, TableCase{"B", 2, kGravity23, 0.4116, 1.9895},
-                      TableCase{"B", 4, kGravity25, 0.4126, 1.9823}, TableCase{"B", 10, kHarmonic, 0.5165, 1.9455},
-                      TableCase{"B", 22, kApproach, 0.5176, 1.7485}, TableCase{"C", 0, kGeometry, 0.4948, 1.5356},
-                      TableCase{"C", 2, kGravity23, 0.4870, 1.5325}, TableCase{"C", 4, kGravity25, 0.4894, 1.5446},
-                      TableCase{"C", 10, kHarmonic, 0.4789, 1.5420}, TableCase{"C", 22, kApproach, 0.4785, 1.5715}),
-    [](const ::testing::TestParamInfo<TableCase>& info) {
-      return info.param.series + "_terms" + std::to_string(info.param.terms);
-    });
+// The rows of the table (each measured with this build; a fit that ends in a flat valley is analysed
+// there: its weak parameters named, those without a prior held, and fitted again with a budget of its own).
+const std::vector<TableCase>& TableCases() {
+  static const std::vector<TableCase> cases = {
+      TableCase{"D", 0, kGeometry, 0.4073, 1.3310},    TableCase{"D", 2, kGravity23, 1.3667, 23.4947},
+      TableCase{"D", 4, kGravity25, 7.5357, 133.7990}, TableCase{"D", 10, kHarmonic, 1.6409, 28.4024},
+      TableCase{"D", 22, kApproach, 1.5610, 26.9395},  TableCase{"BC", 0, kGeometry, 0.6289, 1.8892},
+      TableCase{"BC", 2, kGravity23, 0.5964, 1.6945},  TableCase{"BC", 4, kGravity25, 0.6166, 1.7021},
+      TableCase{"BC", 10, kHarmonic, 0.6839, 2.0468},  TableCase{"BC", 22, kApproach, 0.6818, 2.0182},
+      TableCase{"A", 0, kGeometry, 0.4406, 1.1444},    TableCase{"A", 2, kGravity23, 0.4196, 1.2247},
+      TableCase{"A", 4, kGravity25, 0.4203, 1.1990},   TableCase{"A", 10, kHarmonic, 0.4067, 1.1719},
+      TableCase{"A", 22, kApproach, 0.4055, 1.1503},   TableCase{"B", 0, kGeometry, 0.4587, 2.0280},
+      TableCase{"B", 2, kGravity23, 0.4116, 1.9895},   TableCase{"B", 4, kGravity25, 0.4124, 1.9838},
+      TableCase{"B", 10, kHarmonic, 0.4236, 1.9714},   TableCase{"B", 22, kApproach, 0.4252, 1.7952},
+      TableCase{"C", 0, kGeometry, 0.4948, 1.5356},    TableCase{"C", 2, kGravity23, 0.4870, 1.5325},
+      TableCase{"C", 4, kGravity25, 0.4894, 1.5446},   TableCase{"C", 10, kHarmonic, 0.4835, 1.4391},
+      TableCase{"C", 22, kApproach, 0.4826, 1.4592},
+  };
+  return cases;
+}
 
-// `select: true` with `prior: on` from the richest file (estimators/selection): the chosen candidate and its
-// held-out error.
+INSTANTIATE_TEST_SUITE_P(Rows, Ur10Table, ::testing::ValuesIn(TableCases()),
+                         [](const ::testing::TestParamInfo<TableCase>& info) {
+                           return info.param.series + "_terms" + std::to_string(info.param.terms);
+                         });
+
+// `select: true` from the richest file (estimators/selection; maximum a posteriori with the default priors,
+// as selection fits unless the options give `prior`): the chosen candidate and its held-out error, and
+// the issue's criteria against this series' rows of the table: RMS <= 1.05 x the best row and never
+// above geometry's, max <= 1.5 x geometry's.
 struct SelectCase {
   std::string series;
   std::string chosen;
@@ -147,10 +155,9 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   const Dataset all = ReadDataset(TableDataset(c.series));
   const Robot nominal = Ur10WithTerms(22);
   Robot identified;
-  const EstimationReport report =
-      Estimators()
-          .Create("least_squares", YAML::Load("{max_iterations: 200, select: true, prior: on}"))
-          ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
+  const EstimationReport report = Estimators()
+                                      .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
+                                      ->Estimate(nominal, all.Subset(Split::kTrain), &identified);
   std::string chosen;
   for (const auto& candidate : report.details.at("selection").at("candidates")) {
     if (candidate.at("chosen").get<bool>()) chosen = candidate.at("candidate").get<std::string>();
@@ -167,10 +174,20 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   EXPECT_GE(coverage, 0.95);
   EXPECT_NEAR(e.rms * 1e3, c.rms_mm, std::max(0.002, 0.005 * c.rms_mm));
   EXPECT_NEAR(e.max * 1e3, c.max_mm, std::max(0.01, 0.01 * c.max_mm));
+  double best = 1e9, geometry_rms = 0.0, geometry_max = 0.0;
+  for (const TableCase& row : TableCases()) {
+    if (row.series != c.series) continue;
+    best = std::min(best, row.rms_mm);
+    if (row.terms == 0) geometry_rms = row.rms_mm, geometry_max = row.max_mm;
+  }
+  std::printf("  against the table: best row %.4f mm, geometry %.4f / %.4f mm\n", best, geometry_rms, geometry_max);
+  EXPECT_LE(e.rms * 1e3, 1.05 * best);
+  EXPECT_LE(e.rms * 1e3, geometry_rms);
+  EXPECT_LE(e.max * 1e3, 1.5 * geometry_max);
 }
 
-// Without the priors (least-squares candidates) the choices were the same but for D (geometry), and B -> C
-// held out 0.606 / 2.06 mm, B 0.466 mm (above geometry's 0.459).
+// With `prior: off` (least-squares candidates, measured before fits were analysed in flat valleys) the
+// choices were the same but for D (geometry), and B held out 0.466 mm, above geometry's 0.459.
 INSTANTIATE_TEST_SUITE_P(Series, Ur10Select,
                          ::testing::Values(SelectCase{"A", "+ gravity 2", 0.4214, 1.2090, 0.9995},
                                            SelectCase{"B", "+ gravity 2", 0.4163, 1.9776, 0.9987},

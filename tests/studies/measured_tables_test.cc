@@ -17,8 +17,7 @@ namespace {
 
 using testing::ReadText;
 using testing::TempDir;
-
-void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+using testing::WriteText;
 
 std::string ErrorOf(const PoseTables& t, int dof) {
   try {

@@ -27,17 +27,10 @@
 namespace kincal {
 namespace {
 
+using testing::kDeterministicFiles;
 using testing::ReadText;
+using testing::ReportWithoutTimes;
 using testing::TempDir;
-
-const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
-                                           "iso9283.csv"};
-
-std::string ReportWithoutTimes(const std::string& dir) {
-  const std::string report = ReadText(dir + "/report.md");
-  const size_t begin = report.find("## Times"), end = report.find("## Files");
-  return report.substr(0, begin) + report.substr(end);
-}
 
 void ExpectSameResults(const std::string& a, const std::string& b, bool report = true) {
   for (const char* file : kDeterministicFiles) {

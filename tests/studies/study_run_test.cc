@@ -15,11 +15,10 @@
 namespace kincal {
 namespace {
 
+using testing::kDeterministicFiles;
 using testing::ReadText;
+using testing::ReportWithoutTimes;
 using testing::TempDir;
-
-const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
-                                           "iso9283.csv"};
 
 class StudyRunTest : public ::testing::Test {
  protected:
@@ -57,13 +56,6 @@ class StudyRunTest : public ::testing::Test {
 };
 
 double Number(const std::string& text) { return std::stod(text); }
-
-// report.md without its Times section (wall-clock times differ between runs).
-std::string ReportWithoutTimes(const std::string& dir) {
-  const std::string report = ReadText(dir + "/report.md");
-  const size_t begin = report.find("## Times"), end = report.find("## Files");
-  return report.substr(0, begin) + report.substr(end);
-}
 
 TEST_F(StudyRunTest, SameStudyTwiceGivesTheSameBytesWhateverTheThreads) {
   TempDir tmp;

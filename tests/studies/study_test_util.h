@@ -48,4 +48,16 @@ inline Dataset SeedMeasurements(int poses, double noise, uint64_t seed = 1) {
   return Simulate(SeedNominal(), SeedTruth(), o);
 }
 
+// The files of a study's output folder that must be byte-identical between runs of the same study
+// (threads, shards, resumes); timings.csv and report.md hold wall-clock times.
+inline const char* const kDeterministicFiles[] = {"study.json", "results.csv", "parameters.csv", "convergence.csv",
+                                                  "iso9283.csv"};
+
+// report.md without its Times section (wall-clock times differ between runs).
+inline std::string ReportWithoutTimes(const std::string& dir) {
+  const std::string report = ReadText(dir + "/report.md");
+  const size_t begin = report.find("## Times"), end = report.find("## Files");
+  return report.substr(0, begin) + report.substr(end);
+}
+
 }  // namespace kincal::testing

@@ -7,6 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "framework/random.h"
+
 namespace kincal::testing {
 
 TempDir::TempDir() {
@@ -32,6 +34,17 @@ std::string ReadText(const std::string& path) {
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
+}
+
+std::unique_ptr<KinematicModel> RandomizedModel(std::unique_ptr<KinematicModel> model, uint64_t seed) {
+  Rng rng(seed);
+  Eigen::VectorXd p = model->Parameters();
+  for (int i = 0; i < p.size(); ++i) {
+    const bool angle = model->parameter_info()[i].kind == ParameterInfo::Kind::kAngle;
+    p[i] = angle ? rng.Uniform(-1.5, 1.5) : rng.Uniform(-0.5, 0.5);
+  }
+  model->SetParameters(p);
+  return model;
 }
 
 CommandResult RunKincal(const std::string& arguments) {

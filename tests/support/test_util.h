@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
@@ -75,6 +76,10 @@ struct CommandResult {
 };
 // Runs the kincal binary with arguments (a shell-quoted string).
 CommandResult RunKincal(const std::string& arguments);
+
+// `model` with random but reproducible parameters (angles in [-1.5, 1.5] rad, lengths in [-0.5, 0.5] m;
+// geometry, base and tool), so that no derivative is tested at a special value.
+std::unique_ptr<KinematicModel> RandomizedModel(std::unique_ptr<KinematicModel> model, uint64_t seed);
 
 std::string ReadText(const std::string& path);
 void WriteText(const std::string& path, const std::string& text);
