@@ -78,30 +78,33 @@ void ReadRobots(const Reader& r, const YAML::Node& root, const std::string& sour
   }
 }
 
+// Calls read(entry, "section[i]") for each entry of the list `section` of the top level; none when absent.
+template <typename Read>
+void ForEachEntry(const Reader& r, const YAML::Node& root, const std::string& section, Read read) {
+  if (!root[section]) return;
+  const YAML::Node list = root[section];
+  r.ExpectSequence(list, section);
+  for (size_t i = 0; i < list.size(); ++i) read(list[i], section + "[" + std::to_string(i) + "]");
+}
+
 void ReadDatasets(const Reader& r, const YAML::Node& root, Study* s) {
   if (!root["datasets"]) r.Fail(root, "datasets", "missing key (at least one dataset)");
   r.ExpectSequence(root["datasets"], "datasets");
   if (root["datasets"].size() == 0) r.Fail(root["datasets"], "datasets", "expected at least one dataset");
   std::set<std::string> names;
-  for (size_t i = 0; i < root["datasets"].size(); ++i) {
-    const std::string key = "datasets[" + std::to_string(i) + "]";
-    const YAML::Node node = root["datasets"][i];
+  ForEachEntry(r, root, "datasets", [&](const YAML::Node& node, const std::string& key) {
     DatasetSpec d = study_file::ReadDatasetSpec(r, node, key, s->nominal.robot.dof());
     if (!names.insert(d.name).second) r.Fail(node["name"], key + ".name", "duplicate dataset name '" + d.name + "'");
     if (d.simulated && !s->truth) r.Fail(node, key, "a simulated dataset needs robots.truth");
     s->datasets.push_back(std::move(d));
-  }
+  });
 }
 
 // The baseline `none` first, then the file's pipelines.
 void ReadPipelines(const Reader& r, const YAML::Node& root, const EstimatorRegistry& registry, Study* s) {
   s->pipelines.push_back({"none", {"none"}, {""}, {}});
   registry.Get("none");
-  if (!root["estimators"]) return;
-  r.ExpectSequence(root["estimators"], "estimators");
-  for (size_t i = 0; i < root["estimators"].size(); ++i) {
-    const std::string key = "estimators[" + std::to_string(i) + "]";
-    const YAML::Node node = root["estimators"][i];
+  ForEachEntry(r, root, "estimators", [&](const YAML::Node& node, const std::string& key) {
     PipelineSpec p = study_file::ReadPipeline(r, node, key, registry);
     for (size_t k = 0; k < p.datasets.size(); ++k) {
       const auto& datasets = s->datasets;
@@ -111,45 +114,35 @@ void ReadPipelines(const Reader& r, const YAML::Node& root, const EstimatorRegis
                "unknown dataset '" + p.datasets[k] + "'");
       }
     }
-    if (p.name == "none" && p.methods == std::vector<std::string>{"none"}) continue;  // the baseline runs anyway
+    if (p.name == "none" && p.methods == std::vector<std::string>{"none"}) return;  // the baseline runs anyway
     for (const auto& q : s->pipelines) {
       if (q.name == p.name) r.Fail(node, key, "duplicate estimator name '" + p.name + "' (give each a 'name')");
     }
     s->pipelines.push_back(std::move(p));
-  }
+  });
 }
 
 // The baseline `none` first, then the file's compensators.
 void ReadCompensators(const Reader& r, const YAML::Node& root, const CompensatorRegistry& registry, Study* s) {
   s->compensators.push_back({"none", "none", ""});
   registry.Get("none");
-  if (!root["compensators"]) return;
-  r.ExpectSequence(root["compensators"], "compensators");
-  for (size_t i = 0; i < root["compensators"].size(); ++i) {
-    const std::string key = "compensators[" + std::to_string(i) + "]";
-    const YAML::Node node = root["compensators"][i];
+  ForEachEntry(r, root, "compensators", [&](const YAML::Node& node, const std::string& key) {
     CompensatorSpec c = study_file::ReadCompensator(r, node, key, registry);
-    if (c.name == "none" && c.method == "none") continue;
+    if (c.name == "none" && c.method == "none") return;
     for (const auto& q : s->compensators) {
       if (q.name == c.name) r.Fail(node, key, "duplicate compensator name '" + c.name + "' (give each a 'name')");
     }
     s->compensators.push_back(std::move(c));
-  }
+  });
 }
 
 void ReadValidations(const Reader& r, const YAML::Node& root, Study* s) {
-  if (root["validation"]) {
-    r.ExpectSequence(root["validation"], "validation");
-    std::set<std::string> names;
-    for (size_t i = 0; i < root["validation"].size(); ++i) {
-      const std::string key = "validation[" + std::to_string(i) + "]";
-      const YAML::Node node = root["validation"][i];
-      ValidationSpec v = study_file::ReadValidation(r, node, key, s->nominal.robot);
-      if (!names.insert(v.name).second)
-        r.Fail(node["name"], key + ".name", "duplicate validation name '" + v.name + "'");
-      s->validation.push_back(std::move(v));
-    }
-  }
+  std::set<std::string> names;
+  ForEachEntry(r, root, "validation", [&](const YAML::Node& node, const std::string& key) {
+    ValidationSpec v = study_file::ReadValidation(r, node, key, s->nominal.robot);
+    if (!names.insert(v.name).second) r.Fail(node["name"], key + ".name", "duplicate validation name '" + v.name + "'");
+    s->validation.push_back(std::move(v));
+  });
   const bool any_simulated =
       std::any_of(s->datasets.begin(), s->datasets.end(), [](const DatasetSpec& d) { return d.simulated; });
   if (any_simulated && s->validation.empty()) {
