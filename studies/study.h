@@ -174,6 +174,9 @@ struct ValidationSpec {
   std::vector<std::pair<double, double>> joint_limits;  // rad; empty = the nominal robot's
   Iso9283Spec iso;
   std::string summary;
+  // The keys `random_targets` (count) and `orientation` (studies/study_options.cc); the parser reads the
+  // name, the joint ranges and the cube.
+  static const OptionTable<ValidationSpec>& Table();
 };
 
 struct Study {

@@ -9,12 +9,18 @@ ValidationSpec ReadValidation(const Reader& r, const YAML::Node& node, const std
   ValidationSpec v;
   if (!node["name"]) r.Fail(node, key, "missing key 'name'");
   v.name = r.Name(node["name"], key + ".name");
-  if (node["orientation"]) v.orientation = r.Bool(node["orientation"], key + ".orientation");
+  // The table's keys alone (the nodes keep their places in the file).
+  YAML::Node own(YAML::NodeType::Map);
+  for (const OptionDoc& d : ValidationSpec::Table().Docs()) {
+    if (node[d.key]) own[d.key] = node[d.key];
+  }
+  const ValidationSpec read = ReadOptions(r, ValidationSpec::Table(), own, key);
+  v.orientation = read.orientation;
   const int n = nominal.dof();
   if (node["random_targets"] && node["iso9283"]) r.Fail(node, key, "give either 'random_targets' or 'iso9283'");
   if (node["random_targets"]) {
     v.kind = ValidationSpec::Kind::kRandom;
-    v.count = r.Integer(node["random_targets"], key + ".random_targets", 1);
+    v.count = read.count;
     if (node["joint_limits"]) {
       const YAML::Node l = node["joint_limits"];
       const std::string lk = key + ".joint_limits";

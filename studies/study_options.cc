@@ -88,10 +88,20 @@ const OptionTable<Iso9283Spec>& Iso9283Spec::Table() {
   return table;
 }
 
+const OptionTable<ValidationSpec>& ValidationSpec::Table() {
+  using O = ValidationSpec;
+  static const OptionTable<O> table =
+      OptionTable<O>("validation")
+          .Add("random_targets", &O::count, "random targets within the joint limits (or `joint_limits`)", AtLeast(1))
+          .Add("orientation", &O::orientation, "6-D targets; false: positions only");
+  return table;
+}
+
 std::vector<std::pair<std::string, std::vector<OptionDoc>>> StudyOptionDocs() {
   return {{"(top level)", StudySettings::Table().Docs()},
           {"datasets[].simulate", SimulateOptions::Table().Docs()},
           {"datasets[].iso9283", MeasuredIso9283Spec::Table().Docs()},
+          {"validation[]", ValidationSpec::Table().Docs()},
           {"validation[].iso9283", Iso9283Spec::Table().Docs()}};
 }
 

@@ -5,6 +5,7 @@
 //   (top level)             StudySettings: seed, trials, threads
 //   datasets[].simulate     SimulateOptions: SimulatorOptions::Table() (robot/simulator.h) and `marker`
 //   datasets[].iso9283      MeasuredIso9283Spec::Table() (study.h)
+//   validation[]            ValidationSpec::Table() (study.h): random_targets, orientation
 //   validation[].iso9283    Iso9283Spec::Table() (study.h)
 #include <cstdint>
 #include <string>

@@ -47,6 +47,10 @@ TEST(StudyOptions, OutOfRangeValuesNameTheKeyLineAndColumn) {
             0u);
   EXPECT_EQ(ParseError("seed: -3\n" + Study("poses: 5")), "study.yaml:1:7: seed: expected an integer >= 0");
   EXPECT_EQ(ParseError("threads: -1\n" + Study("poses: 5")), "study.yaml:1:10: threads: must be >= 0, got '-1'");
+  EXPECT_EQ(ParseError(Study("poses: 5") + "  - {name: w, random_targets: 0}\n"),
+            "study.yaml:14:31: validation[2].random_targets: must be >= 1, got '0'");
+  EXPECT_EQ(ParseError(Study("poses: 5") + "  - {name: w, random_targets: 5, orientation: yes please}\n"),
+            "study.yaml:14:47: validation[2].orientation: expected true or false");
   EXPECT_EQ(ParseError(Study("poses: 5", "{side: 150mm, cycles: 1}")),
             "study.yaml:13:36: validation[1].iso9283.cycles: must be >= 2, got '1'");
   EXPECT_EQ(ParseError(Study("poses: 5", "{joint_noise: -0.1}")),
@@ -126,7 +130,7 @@ TEST(StudyOptions, IsValidChecksWhatTheFileReaderChecks) {
 // what the parser reads, in the file's units.
 TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
   const auto docs = StudyOptionDocs();
-  ASSERT_EQ(docs.size(), 4u);
+  ASSERT_EQ(docs.size(), 5u);
   const auto map_of = [](const std::vector<OptionDoc>& section) {
     std::string map;
     for (const OptionDoc& d : section) {
@@ -138,7 +142,11 @@ TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
     return "{" + map + "}";
   };
   EXPECT_EQ(docs[1].first, "datasets[].simulate");
-  EXPECT_EQ(docs[3].first, "validation[].iso9283");
+  EXPECT_EQ(docs[4].first, "validation[].iso9283");
+  // A validation set's random_targets has no default (a set gives it or a cube); its orientation has.
+  ASSERT_EQ(docs[3].second.size(), 2u);
+  EXPECT_EQ(docs[3].second[0].key, "random_targets");
+  EXPECT_EQ(docs[3].second[1].default_value, "true");
   std::string top;  // the top level's settings, one line each
   for (const OptionDoc& d : docs[0].second) top += d.key + ": " + d.default_value + "\n";
   const testing::TestRegistries registries = testing::MakeTestRegistries(testing::SeedTruth());
@@ -147,7 +155,7 @@ TEST(StudyOptions, DocumentedDefaultsReadBackAsTheDefaults) {
                                          // (a measured dataset's file is only checked readable when parsing)
                                          "}\n  - {name: m, file: " + testing::SourcePath("examples/studies/README.md") +
                                          ", split: {every: 2}, iso9283: " + map_of(docs[2].second) + "}\n" +
-                                         "validation:\n  - {name: cube, iso9283: " + map_of(docs[3].second) + "}\n",
+                                         "validation:\n  - {name: cube, iso9283: " + map_of(docs[4].second) + "}\n",
                                      "study.yaml", registries.view());
   const StudySettings settings;
   EXPECT_EQ(s.seed, settings.seed);
