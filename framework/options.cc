@@ -19,7 +19,8 @@ void OptionsReader::Fail(const std::string& key, const std::string& what) const 
   std::string where = "options of " + what_;
   if (!mark.is_null())
     where = "line " + std::to_string(mark.line + 1) + ", column " + std::to_string(mark.column + 1) + ": " + where;
-  ThrowInputError(where + ": '" + key + "': " + what);
+  throw OptionsError(OneLine(where + ": '" + key + "': " + what), key, mark.is_null() ? 0 : mark.line + 1,
+                     mark.is_null() ? 0 : mark.column + 1, what);
 }
 
 void OptionsReader::Get(const std::string& key, double* value) {
@@ -96,11 +97,12 @@ void OptionsReader::Get(const std::string& key, std::vector<double>* value) {
 
 bool OptionsReader::Has(const std::string& key) const { return node_ && node_.IsMap() && node_[key]; }
 
-void OptionsReader::GetLength(const std::string& key, double* value) {
+void OptionsReader::GetLength(const std::string& key, double* value, const std::string& plain_unit) {
   read_.push_back(key);
   if (!node_ || !node_.IsMap() || !node_[key]) return;
+  if (!node_[key].IsScalar()) Fail(key, "expected a length such as 10um or 0.01mm");
   try {
-    *value = ParseLength(node_[key].Scalar(), LengthUnit("m"));
+    *value = ParseLength(node_[key].Scalar(), LengthUnit(plain_unit));
   } catch (const std::invalid_argument& e) {
     Fail(key, e.what());
   }
@@ -203,6 +205,7 @@ std::string Show(const std::vector<double>& v) {
 }
 
 std::string TypeName(double, OptionUnit unit) {
+  if (unit == OptionUnit::kLengthMm) return "length (mm)";
   return unit == OptionUnit::kLength ? "length" : unit == OptionUnit::kAngleDeg ? "angle (deg)" : "number";
 }
 std::string TypeName(int, OptionUnit) { return "integer"; }
@@ -212,8 +215,8 @@ std::string TypeName(const std::vector<std::string>&, OptionUnit) { return "list
 std::string TypeName(const std::vector<double>&, OptionUnit) { return "list of numbers"; }
 
 void ReadValue(OptionsReader* reader, const std::string& key, OptionUnit unit, double* value) {
-  if (unit == OptionUnit::kLength) {
-    reader->GetLength(key, value);
+  if (unit == OptionUnit::kLength || unit == OptionUnit::kLengthMm) {
+    reader->GetLength(key, value, unit == OptionUnit::kLength ? "m" : "mm");
   } else if (unit == OptionUnit::kAngleDeg) {
     reader->GetAngleDeg(key, value);
   } else {

@@ -11,6 +11,7 @@
 // Tables compose: Include(inner table, &O::member) reads a nested struct's keys at the same level, and
 // Include(base table) a base struct's. Rule() adds a requirement between several keys.
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -18,6 +19,27 @@
 #include <yaml-cpp/yaml.h>
 
 namespace kincal {
+
+// The error OptionsReader::Fail throws: its message as described there, and its parts for a caller that
+// names the place its own way (a study file: "file:line:column: datasets[0].simulate.noise: ...").
+class OptionsError : public std::invalid_argument {
+ public:
+  OptionsError(const std::string& message, std::string key, int line, int column, std::string reason)
+      : std::invalid_argument(message),
+        key_(std::move(key)),
+        line_(line),
+        column_(column),
+        reason_(std::move(reason)) {}
+  const std::string& key() const { return key_; }
+  int line() const { return line_; }      // 1-based; 0 when unknown
+  int column() const { return column_; }  // 1-based; 0 when unknown
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string key_;
+  int line_, column_;
+  std::string reason_;
+};
 
 // Reads the keys of an options map: unknown keys are errors naming the key and its place.
 class OptionsReader {
@@ -30,8 +52,8 @@ class OptionsReader {
   void Get(const std::string& key, std::string* value);
   void Get(const std::string& key, std::vector<std::string>* value);
   void Get(const std::string& key, std::vector<double>* value);
-  // A length with an optional unit ("10um", "0.01mm"; plain numbers are metres).
-  void GetLength(const std::string& key, double* value);
+  // A length with an optional unit ("10um", "0.01mm"; plain numbers are in `plain_unit`, metres by default).
+  void GetLength(const std::string& key, double* value, const std::string& plain_unit = "m");
   // An angle in degrees in the file, radians in *value.
   void GetAngleDeg(const std::string& key, double* value);
   bool Has(const std::string& key) const;
@@ -40,7 +62,7 @@ class OptionsReader {
   void MarkRead(const std::string& key) { read_.push_back(key); }
   // Throws for any key not read by a Get call. Call last.
   void Finish() const;
-  // Throws the input error "line L, column C: options of <what>: '<key>': <what>" (the value's place).
+  // Throws OptionsError "line L, column C: options of <what>: '<key>': <what>" (the value's place).
   [[noreturn]] void Fail(const std::string& key, const std::string& what) const;
 
  private:
@@ -49,9 +71,9 @@ class OptionsReader {
   std::vector<std::string> read_;
 };
 
-// How an option reads and shows: a plain value, a length (m, units allowed in files) or an angle (rad
-// inside, degrees in files).
-enum class OptionUnit { kPlain, kLength, kAngleDeg };
+// How an option reads and shows: a plain value, a length (m, units allowed in files), an angle (rad
+// inside, degrees in files) or a length whose plain numbers in files are millimetres (study files).
+enum class OptionUnit { kPlain, kLength, kAngleDeg, kLengthMm };
 
 // A requirement on a value: "" when it holds, else what it must be ("must be positive").
 template <typename T>
@@ -283,6 +305,7 @@ class OptionTable {
   }
   static std::string ShowIn(const double& value, OptionUnit unit) {
     if (unit == OptionUnit::kAngleDeg) return options_detail::Show(InFileUnits(value, unit));
+    if (unit == OptionUnit::kLengthMm) return options_detail::Show(value * 1e3) + " mm";
     return options_detail::Show(value) + (unit == OptionUnit::kLength ? " m" : "");
   }
   OptionTable& Push(Field f) {

@@ -12,21 +12,51 @@
 
 namespace kincal {
 
-bool SimulatorOptions::IsValid(std::string* why) const {
-  const auto fail = [&](const std::string& what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (protocol != "sweep" && protocol != "random")
-    return fail("protocol must be 'sweep' or 'random', got '" + protocol + "'");
-  if (protocol == "random" && poses < 1) return fail("poses must be at least 1");
-  if (protocol == "sweep" && stops < 1) return fail("stops must be at least 1");
-  if (!std::isfinite(step)) return fail("step must be finite");
-  if (!(noise_sigma >= 0.0) || !std::isfinite(noise_sigma)) return fail("noise sigma must be finite and >= 0");
-  if (!(noise_range_coefficient >= 0.0)) return fail("noise range coefficient must be >= 0");
-  if (!(orientation_noise >= 0.0)) return fail("orientation noise must be >= 0");
-  return true;
+const OptionTable<SimulatorOptions>& SimulatorOptions::Table() {
+  using O = SimulatorOptions;
+  const auto finite = [](const double& v) { return std::isfinite(v) ? std::string() : std::string("must be finite"); };
+  static const OptionTable<O> table =
+      OptionTable<O>("simulate")
+          .Add("protocol", &O::protocol,
+               "sweep: the seed's protocol (joints one at a time, METHOD.md 2); random: uniform within the limits",
+               OneOf({"sweep", "random"}))
+          .Add("poses", &O::poses, "random protocol: number of configurations", AtLeast(1))
+          .Add("stops", &O::stops, "sweep protocol: stops per joint (two at least, to move it)", AtLeast(2))
+          .Add("step", OptionUnit::kAngleDeg, &O::step, "sweep protocol: angle between stops",
+               Requirement<double>(finite))
+          .Add<std::vector<double>>(
+              "start",
+              [](const O& o) {
+                std::vector<double> deg;
+                for (Eigen::Index i = 0; i < o.start.size(); ++i) deg.push_back(o.start[i] * 180.0 / M_PI);
+                return deg;
+              },
+              [](O* o, const std::vector<double>& deg) {
+                o->start = Eigen::Map<const Eigen::VectorXd>(deg.data(), static_cast<Eigen::Index>(deg.size())) *
+                           (M_PI / 180.0);
+              },
+              "sweep protocol: the calibration configuration, deg, one per joint (default zeros)")
+          .Add<std::vector<double>>(
+              "order", [](const O& o) { return std::vector<double>(o.sweep_order.begin(), o.sweep_order.end()); },
+              [](O* o, const std::vector<double>& joints) {
+                o->sweep_order.clear();
+                for (double j : joints) {
+                  if (j != std::floor(j) || j < 1 || j > 1e6)
+                    throw std::invalid_argument("expected joint numbers 1..n");
+                  o->sweep_order.push_back(static_cast<int>(j));
+                }
+              },
+              "sweep protocol: joints in sweep order, 1-based (default n..1)")
+          .Add("noise", OptionUnit::kLengthMm, &O::noise_sigma, "position noise sigma per axis", NonNegative())
+          .Add("noise_range", OptionUnit::kLengthMm, &O::noise_range_coefficient,
+               "extra sigma per metre of distance to the instrument (a laser tracker: about 5um)", NonNegative())
+          .Add("orientation", &O::orientation, "also record the tool orientation (qw, qx, qy, qz)")
+          .Add("orientation_noise", OptionUnit::kAngleDeg, &O::orientation_noise, "orientation noise per axis",
+               NonNegative());
+  return table;
 }
+
+bool SimulatorOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 Dataset Simulate(const Robot& nominal, const Robot& truth, const SimulatorOptions& options) {
   std::string why;

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "framework/dataset.h"
+#include "framework/options.h"
 #include "robot/robot.h"
 
 namespace kincal {
@@ -38,6 +39,10 @@ struct SimulatorOptions {
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
 
+  // The keys a file gives (a study's `simulate:` map): protocol, poses, stops, step (deg), start (deg),
+  // order, noise and noise_range (lengths, mm when plain), orientation, orientation_noise (deg). markers,
+  // seed and the units are set by the caller. Validation (IsValid) checks the same requirements.
+  static const OptionTable<SimulatorOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 

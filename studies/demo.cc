@@ -52,44 +52,50 @@ bool DemoOptions::IsValid(std::string* why) const {
   return true;
 }
 
-const char* SeedNominalRobotYaml() {
-  return R"(name: seed_nominal
-convention: mdh
-units: {length: mm, angle: deg}
-joints:
-  - {alpha: 0, a: 0, theta: 0, d: 0}
-  - {alpha: 90, a: 247.5, theta: 90, d: 0}
-  - {alpha: 90, a: 0, theta: 0, d: 289.5}
-  - {alpha: -90, a: 0, theta: 0, d: 0}
-  - {alpha: 90, a: 0, theta: 0, d: 335.5}
-  - {alpha: -90, a: 0, theta: 0, d: 0}
-drives:
-  ratio: [7946.448979591837, 7946.448979591837, 4782.585034013606, 5150.476190476191, 3973.2244897959185, 4138.775510204082]
-  counts_per_rev: [2048, 2048, 2048, 2048, 2048, 2048]
-limits: [[-170, 170], [-120, 120], [-150, 150], [-180, 180], [-120, 120], [-180, 180]]
-base: {xyz: [0, 0, 0], rpy: [0, 0, 0]}
-tool: {xyz: [40, 30, 100], rpy: [0, 0, 0]}
-)";
+namespace {
+
+// The seed's arm as a robot file: Table 1's layout with the given joints (modified DH, mm and deg) and
+// reduction ratios; both robots share the encoders, limits, base and tool.
+std::string SeedRobotYaml(const std::string& name, const std::string& joints, const std::string& ratios) {
+  return "name: " + name +
+         "\n"
+         "convention: mdh\n"
+         "units: {length: mm, angle: deg}\n"
+         "joints:\n" +
+         joints +
+         "drives:\n"
+         "  ratio: " +
+         ratios +
+         "\n"
+         "  counts_per_rev: [2048, 2048, 2048, 2048, 2048, 2048]\n"
+         "limits: [[-170, 170], [-120, 120], [-150, 150], [-180, 180], [-120, 120], [-180, 180]]\n"
+         "base: {xyz: [0, 0, 0], rpy: [0, 0, 0]}\n"
+         "tool: {xyz: [40, 30, 100], rpy: [0, 0, 0]}\n";
 }
 
-const char* SeedIdentifiedRobotYaml() {
-  return R"(name: seed_identified
-convention: mdh
-units: {length: mm, angle: deg}
-joints:
-  - {alpha: 0, a: 0, theta: 0, d: 0}
-  - {alpha: 89.98, a: 248.73, theta: 90.40, d: -2.11}
-  - {alpha: 90.24, a: 1.68, theta: -0.45, d: 291.53}
-  - {alpha: -90.00, a: -0.21, theta: -1.07, d: 0.06}
-  - {alpha: 90.21, a: 3.94, theta: -0.31, d: 335.15}
-  - {alpha: -90.09, a: -2.34, theta: 0, d: 0}
-drives:
-  ratio: [7947.74, 7964.34, 4815.60, 5157.69, 4022.85, 4170.54]
-  counts_per_rev: [2048, 2048, 2048, 2048, 2048, 2048]
-limits: [[-170, 170], [-120, 120], [-150, 150], [-180, 180], [-120, 120], [-180, 180]]
-base: {xyz: [0, 0, 0], rpy: [0, 0, 0]}
-tool: {xyz: [40, 30, 100], rpy: [0, 0, 0]}
-)";
+}  // namespace
+
+std::string SeedNominalRobotYaml() {
+  return SeedRobotYaml("seed_nominal",
+                       "  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
+                       "  - {alpha: 90, a: 247.5, theta: 90, d: 0}\n"
+                       "  - {alpha: 90, a: 0, theta: 0, d: 289.5}\n"
+                       "  - {alpha: -90, a: 0, theta: 0, d: 0}\n"
+                       "  - {alpha: 90, a: 0, theta: 0, d: 335.5}\n"
+                       "  - {alpha: -90, a: 0, theta: 0, d: 0}\n",
+                       "[7946.448979591837, 7946.448979591837, 4782.585034013606, 5150.476190476191, "
+                       "3973.2244897959185, 4138.775510204082]");
+}
+
+std::string SeedIdentifiedRobotYaml() {
+  return SeedRobotYaml("seed_identified",
+                       "  - {alpha: 0, a: 0, theta: 0, d: 0}\n"
+                       "  - {alpha: 89.98, a: 248.73, theta: 90.40, d: -2.11}\n"
+                       "  - {alpha: 90.24, a: 1.68, theta: -0.45, d: 291.53}\n"
+                       "  - {alpha: -90.00, a: -0.21, theta: -1.07, d: 0.06}\n"
+                       "  - {alpha: 90.21, a: 3.94, theta: -0.31, d: 335.15}\n"
+                       "  - {alpha: -90.09, a: -2.34, theta: 0, d: 0}\n",
+                       "[7947.74, 7964.34, 4815.60, 5157.69, 4022.85, 4170.54]");
 }
 
 std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& registries) {

@@ -24,8 +24,8 @@ struct DemoOptions {
 };
 
 // The seed's robots as in examples/robots/seed_nominal.yaml and seed_identified.yaml.
-const char* SeedNominalRobotYaml();
-const char* SeedIdentifiedRobotYaml();
+std::string SeedNominalRobotYaml();
+std::string SeedIdentifiedRobotYaml();
 
 // The demo as a study file (robots inline), running what `registries` hold.
 std::string DemoStudyYaml(const DemoOptions& options, const MethodRegistries& registries = MethodRegistries());

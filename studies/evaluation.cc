@@ -97,97 +97,6 @@ std::vector<ConvergencePoint> Convergence(const std::vector<CompensationReport>&
   return out;
 }
 
-std::vector<ParameterRow> Parameters(const Robot& nominal, const Robot* truth, const Robot& identified,
-                                     const std::vector<EstimationReport>& reports) {
-  std::vector<ParameterRow> rows;
-  const auto stddev_of = [&](const std::string& name) {
-    for (auto r = reports.rbegin(); r != reports.rend(); ++r) {
-      for (const auto& p : r->parameters) {
-        if (p.name == name && p.free) return p.stddev;
-      }
-    }
-    return static_cast<double>(NAN);
-  };
-  const KinematicModel& m = identified.model();
-  for (int i = 0; i < m.num_parameters(); ++i) {
-    const ParameterInfo& info = m.parameter_info()[i];
-    const bool length = info.kind == ParameterInfo::Kind::kLength;
-    const double scale = length ? 1e3 : 180.0 / M_PI;
-    ParameterRow row;
-    row.name = info.name;
-    row.unit = length ? "mm" : "deg";
-    const int in_nominal = nominal.model().FindParameter(info.name);
-    if (in_nominal >= 0) row.nominal = nominal.model().Parameters()[in_nominal] * scale;
-    row.estimate = m.Parameters()[i] * scale;
-    row.stddev = stddev_of(info.name) * scale;
-    if (truth) {
-      const int in_truth = truth->model().FindParameter(info.name);
-      if (in_truth >= 0) row.truth = truth->model().Parameters()[in_truth] * scale;
-    }
-    rows.push_back(row);
-  }
-  // Markers and joint-level error coefficients are identified like the geometry: a study that
-  // compares "geometry only" against "with joint errors" shows them, in mm and deg like the rest
-  // (approach terms in s: deg per deg/s).
-  const auto nominal_value = [](const auto& map, const std::string& key, auto get) {
-    const auto it = map.find(key);
-    return it == map.end() ? static_cast<double>(NAN) : get(it->second);
-  };
-  for (const auto& [marker, p_tool_marker] : identified.markers) {
-    for (int k = 0; k < 3; ++k) {
-      ParameterRow row;
-      row.name = "marker_" + marker + "_" + "xyz"[k];
-      row.unit = "mm";
-      row.nominal = nominal_value(nominal.markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
-      row.estimate = p_tool_marker[k] * 1e3;
-      row.stddev = stddev_of(row.name) * 1e3;
-      if (truth)
-        row.truth = nominal_value(truth->markers, marker, [k](const Eigen::Vector3d& v) { return v[k] * 1e3; });
-      rows.push_back(row);
-    }
-  }
-  const auto coefficients_by_name = [](const Robot& robot) {
-    std::map<std::string, double> out;
-    const std::vector<std::string> names = robot.joint_errors.CoefficientNames();
-    const Eigen::VectorXd c = robot.joint_errors.Coefficients();
-    for (size_t k = 0; k < names.size(); ++k) out[names[k]] = c[static_cast<Eigen::Index>(k)];
-    return out;
-  };
-  const std::map<std::string, double> nominal_c = coefficients_by_name(nominal);
-  const std::map<std::string, double> truth_c = truth ? coefficients_by_name(*truth) : std::map<std::string, double>();
-  const std::vector<std::string> names = identified.joint_errors.CoefficientNames();  // in the file's order
-  const std::vector<JointErrorTerm::CoefficientKind> kinds = identified.joint_errors.CoefficientKinds();
-  const Eigen::VectorXd identified_c = identified.joint_errors.Coefficients();
-  for (size_t k = 0; k < names.size(); ++k) {
-    const std::string& name = names[k];
-    const double value = identified_c[static_cast<Eigen::Index>(k)];
-    const bool time = kinds[k] == JointErrorTerm::CoefficientKind::kTime;
-    const bool per_length = kinds[k] == JointErrorTerm::CoefficientKind::kAnglePerLength;
-    const double scale = time ? 1.0 : per_length ? 180.0 / M_PI * 1e-3 : 180.0 / M_PI;
-    ParameterRow row;
-    row.name = name;
-    row.unit = time ? "s" : per_length ? "deg/mm" : "deg";
-    const auto same = [](double v) { return v; };
-    row.nominal = nominal_value(nominal_c, name, same) * scale;
-    row.estimate = value * scale;
-    row.stddev = stddev_of(name) * scale;
-    if (truth) row.truth = nominal_value(truth_c, name, same) * scale;
-    rows.push_back(row);
-  }
-  if (identified.drives) {
-    for (int j = 0; j < identified.drives->dof(); ++j) {
-      ParameterRow row;
-      row.name = "ratio_" + std::to_string(j + 1);
-      if (nominal.drives) row.nominal = nominal.drives->ratio[j];
-      row.estimate = identified.drives->ratio[j];
-      row.stddev = stddev_of(row.name);
-      if (truth && truth->drives) row.truth = truth->drives->ratio[j];
-      rows.push_back(row);
-    }
-  }
-  return rows;
-}
-
 // The names of the identified robot's parameters that are not finite ("" when all are).
 std::string NonFiniteParameters(const Robot& robot) {
   std::string names;
@@ -508,7 +417,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
     result.estimation_note = (method.empty() ? "" : "estimator " + method + ": ") + CurrentExceptionText();
   }
   if (result.estimation_status != "error") {
-    result.parameters = Parameters(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
+    result.parameters = ParameterRows(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
   }
   std::string status = "ok";
   if (result.estimation_status == "error") {
@@ -542,7 +451,7 @@ ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& fa
         const bool all_oriented = e.orientation.size() == test.rows.size();
         std::vector<double> position, orientation;
         for (const MeasuredIsoPose& p : MeasuredIso9283(
-                 d.nominal, identified, test, {spec.iso_tolerance, spec.iso_angle_tolerance}, spec.iso_min_cycles)) {
+                 d.nominal, identified, test, {spec.iso.tolerance, spec.iso.angle_tolerance}, spec.iso.min_cycles)) {
           iso.iso.push_back({p.pose, p.stats});
           for (int r : p.rows) {
             position.push_back(e.position[r]);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "framework/dataset.h"
+#include "studies/parameter_rows.h"
 #include "studies/study.h"
 #include "studies/validation.h"
 
@@ -58,13 +59,6 @@ struct EvaluationRow {
   double compensate_seconds_per_target = NAN;
   std::vector<ConvergencePoint> convergence;  // the study's first random validation set only
   std::vector<IsoPoseResult> iso;             // ISO 9283 sets only
-};
-
-// An identified parameter in report units: mm, deg, or dimensionless for ratios.
-struct ParameterRow {
-  std::string name;
-  std::string unit;
-  double nominal = NAN, estimate = NAN, stddev = NAN, truth = NAN;
 };
 
 // One held-out row of measured data, for the report's error against reach and against approach speed.

@@ -21,7 +21,10 @@
 namespace kincal {
 namespace {
 
-const char kMagic[] = "kincal study journal v1 ";
+// The format's version changes whenever the rows a record holds change (a table gains a column): a
+// journal of another version is refused, never mixed in.
+const char kMagicPrefix[] = "kincal study journal v";
+const char kMagic[] = "kincal study journal v2 ";
 
 std::string Hex(uint64_t v) {
   char buffer[20];
@@ -109,6 +112,11 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
     if (text.size() >= header.size() || (!text.empty() && text.back() == '\n')) {
       const size_t eol = text.find('\n');
       const std::string first = text.substr(0, eol);
+      if (first.rfind(kMagicPrefix, 0) == 0 && first.rfind(kMagic, 0) != 0) {
+        ThrowInputError(path_ + ": a journal of another kincal version (" + first.substr(0, first.find(' ', sizeof(kMagicPrefix))) +
+                        ", this one writes " + std::string(kMagic, sizeof(kMagic) - 2) +
+                        "); its results are not mixed in: choose another --out folder, or delete the journal to start over");
+      }
       if (first.rfind(kMagic, 0) != 0) {
         ThrowInputError(path_ + ": not a kincal study journal; remove it or choose another --out folder");
       }

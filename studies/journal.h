@@ -5,7 +5,7 @@
 // the result tables get, so a stopped-and-resumed run writes the bytes of an uninterrupted one.
 //
 // Format (text, one record per line, so a torn write is visible):
-//   kincal study journal v1 <fingerprint>\n
+//   kincal study journal v2 <fingerprint>\n
 //   item <index> <payload bytes> <FNV-1a 64 of the payload, hex> <payload: JSON, one line>\n
 // The fingerprint names the study (content of the study file, robots, measured data, shard); a journal with
 // another fingerprint is refused, never mixed in. A record cut short by SIGKILL or a power cut can only be

@@ -189,6 +189,43 @@ void IsoTable(std::ostream& o, const ReportData& data, int variant, const std::s
   o << "\n";
 }
 
+// What the priors did (error-model fits with `prior: on`, studies/parameter_rows.h): per parameter and
+// estimator that gave it a prior or found it weak, the prior's sd, the posterior's, the data's alone and
+// the data's share of the information (1 - posterior^2 / prior^2). A share near 0 means the prior, not the
+// data, placed the parameter: not a calibration result to trust.
+void ParameterTrustTable(std::ostream& o, const std::vector<ParameterSummary>& params,
+                         const std::vector<std::string>& estimators) {
+  bool any = false;
+  for (const auto& p : params) {
+    for (const auto& e : estimators) any |= p.trust.count(e) > 0;
+  }
+  if (!any) return;
+  o << "Priors and weak parameters: standard deviations in the parameter's unit, means over trials; "
+       "posterior: with the prior (the sd in brackets above), data: from the data alone; data share = 1 − "
+       "posterior² / prior²; weak: in how many trials the data alone could not determine it, and what it "
+       "trades against.\n\n";
+  Header(o, {"parameter", "unit", "estimator", "prior sd", "posterior sd", "data sd", "data share", "weak"},
+         {false, false, false, true, true, true, true, false});
+  for (const auto& p : params) {
+    for (const auto& e : estimators) {
+      const auto t = p.trust.find(e);
+      if (t == p.trust.end()) continue;
+      const ParameterSummary::Trust& trust = t->second;
+      const auto mean = [](const TrialValues& v) { return v.count() ? ReportNumber(v.Mean()) : std::string("–"); };
+      const auto sd = p.stddev.find(e);
+      const int trials = p.error.count(e) ? p.error.at(e).count() : 0;
+      std::string weak = "–";
+      if (trust.weak > 0) {
+        weak = std::to_string(trust.weak) + "/" + std::to_string(trials) + " trials";
+        if (!trust.trades_against.empty()) weak += ", trades against " + trust.trades_against;
+      }
+      Row(o, {Cell(p.name), p.unit.empty() ? "–" : p.unit, Cell(e), mean(trust.prior_sd),
+              sd == p.stddev.end() ? "–" : mean(sd->second), mean(trust.data_sd), mean(trust.data_share), weak});
+    }
+  }
+  o << "\n";
+}
+
 void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
   const std::vector<ParameterSummary> params = SummarizeParameters(data, variant);
   if (params.empty()) {
@@ -250,6 +287,7 @@ void ParameterTable(std::ostream& o, const ReportData& data, int variant) {
     Row(o, {Cell(e), rms(squares[e]["mm"]), rms(squares[e]["deg"]), rms(squares[e][""])});
   }
   o << "\n";
+  ParameterTrustTable(o, params, estimators);
 }
 
 void SensitivityTable(std::ostream& o, const ReportData& data, const std::string& dataset,
@@ -427,7 +465,8 @@ void WriteReport(const std::string& dir) {
        "- `results.csv`: one row per (work item, compensator, validation set): error distribution over the targets "
        "(mean, RMS, max, 5/25/50/75/95 % quantiles), status\n"
        "- `parameters.csv`: every identified parameter with its nominal, estimate, reported standard deviation, "
-       "truth and error\n"
+       "truth and error; with priors, the prior's sd, the data's alone, the data's share and the weak flag with "
+       "the parameters it trades against\n"
        "- `heldout.csv` (measured data): every held-out row's error with its reach and approach speed, its "
        "predicted sd and whether it lies outside the training support\n"
        "- `selection.csv`: the model selection of estimators with `select: true`\n"

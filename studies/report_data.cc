@@ -156,7 +156,9 @@ TrialValues ReportData::Values(int variant, const std::string& estimator, const 
 std::vector<ParameterSummary> SummarizeParameters(const ReportData& data, int variant) {
   const ResultTable& t = data.tables().parameters;
   const int c_name = t.Column("parameter"), c_unit = t.Column("unit"), c_nominal = t.Column("nominal"),
-            c_estimate = t.Column("estimate"), c_stddev = t.Column("stddev"), c_truth = t.Column("truth");
+            c_estimate = t.Column("estimate"), c_stddev = t.Column("stddev"), c_truth = t.Column("truth"),
+            c_prior_sd = t.Column("prior_sd"), c_data_sd = t.Column("data_sd"), c_share = t.Column("data_share"),
+            c_weak = t.Column("weak"), c_partners = t.Column("trades_against");
   std::vector<ParameterSummary> all;
   std::map<std::string, size_t> index;
   std::map<std::string, bool> moved;
@@ -178,6 +180,15 @@ std::vector<ParameterSummary> SummarizeParameters(const ReportData& data, int va
       const double estimate = t.Number(r, c_estimate);
       p.error[estimator].Add(estimate - (std::isfinite(p.truth) ? p.truth : p.nominal));
       p.stddev[estimator].Add(t.Number(r, c_stddev));
+      const bool weak = t.Text(r, c_weak) == "1";
+      if (std::isfinite(t.Number(r, c_prior_sd)) || weak) {
+        ParameterSummary::Trust& trust = p.trust[estimator];
+        trust.prior_sd.Add(t.Number(r, c_prior_sd));
+        trust.data_sd.Add(t.Number(r, c_data_sd));
+        trust.data_share.Add(t.Number(r, c_share));
+        trust.weak += weak ? 1 : 0;
+        if (trust.trades_against.empty()) trust.trades_against = t.Text(r, c_partners);
+      }
       if (std::abs(estimate - p.nominal) > 1e-9 * std::max(1.0, std::abs(p.nominal))) moved[name] = true;
     }
   }

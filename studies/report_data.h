@@ -70,6 +70,13 @@ struct ParameterSummary {
   double truth = 0.0;                         // NaN for measured data
   std::map<std::string, TrialValues> error;   // per estimator: estimate - truth (- nominal without a truth)
   std::map<std::string, TrialValues> stddev;  // per estimator: the standard deviation it reported
+  // Per estimator, from error-model fits with priors (studies/parameter_rows.h); absent where none.
+  struct Trust {
+    TrialValues prior_sd, data_sd, data_share;
+    int weak = 0;                // trials in which the parameter was weak
+    std::string trades_against;  // a weak parameter's partners (the first trial's that names them)
+  };
+  std::map<std::string, Trust> trust;
 };
 // Parameters that the truth or some estimator moved away from the nominal, in the tables' order.
 std::vector<ParameterSummary> SummarizeParameters(const ReportData& data, int variant);

@@ -121,8 +121,9 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
   t.results.header = Concat(t.results.header, SummaryColumns("orientation_error", "deg"));
   t.results.header = Concat(t.results.header, {"estimation_status", "status", "note"});
   t.timings.header = Concat(kKey, {"identify_seconds", "compensate_seconds_per_target"});
-  t.parameters.header = {"item", "dataset", "knob",     "knob_value", "trial", "estimator", "parameter",
-                         "unit", "nominal", "estimate", "stddev",     "truth", "error"};
+  t.parameters.header = {"item",      "dataset",  "knob",    "knob_value", "trial",  "estimator",
+                         "parameter", "unit",     "nominal", "estimate",   "stddev", "truth",
+                         "error",     "prior_sd", "data_sd", "data_share", "weak",   "trades_against"};
   t.convergence.header = Concat(kKey, {"iteration", "position_error_median_mm", "position_error_max_mm",
                                        "orientation_error_median_deg", "orientation_error_max_deg", "active_targets"});
   t.heldout.header = {"item",      "dataset", "knob",           "knob_value", "trial",
@@ -173,9 +174,11 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
           {c.candidate, std::to_string(c.parameters), Format(c.cv_rms * mm), Format(c.se * mm), c.chosen ? "1" : "0"}));
     }
     for (const ParameterRow& p : r->parameters) {
-      t.parameters.rows.push_back(Concat(Key(study, variants, *r, nullptr),
-                                         {p.name, p.unit, Format(p.nominal, 10), Format(p.estimate, 10),
-                                          Format(p.stddev, 4), Format(p.truth, 10), Format(p.estimate - p.truth, 6)}));
+      t.parameters.rows.push_back(
+          Concat(Key(study, variants, *r, nullptr),
+                 {p.name, p.unit, Format(p.nominal, 10), Format(p.estimate, 10), Format(p.stddev, 4),
+                  Format(p.truth, 10), Format(p.estimate - p.truth, 6), Format(p.prior_sd, 4), Format(p.data_sd, 4),
+                  Format(p.data_share, 4), p.weak ? "1" : "0", p.trades_against}));
     }
   }
   return t;

@@ -4,7 +4,9 @@
 // same metrics on the same validation targets.
 //
 // Study file (v1). Lengths are numbers in mm or carry a unit ("10um", "0.5mm", "0.001m"); angles are
-// degrees; paths are relative to the study file. Unknown keys are errors naming the key, line and column.
+// degrees; paths are relative to the study file. Unknown keys, wrong types and values out of range are
+// errors naming the key, line and column. The settings, `simulate` and the `iso9283` maps are declared
+// once, in option tables (studies/study_options.h).
 //
 //   name: seed_comparison          # required; the report's title
 //   description: free text         # optional
@@ -104,6 +106,15 @@ struct KnobSweep {
   std::vector<std::string> texts;  // as written in the study file
 };
 
+// A measured dataset's `iso9283:` map (keys and requirements: Table(), studies/study_options.cc).
+struct MeasuredIso9283Spec {
+  double tolerance = 0.2e-3;                    // m: controller poses this close are one commanded pose
+  double angle_tolerance = 0.1 * M_PI / 180.0;  // rad
+  int min_cycles = 2;                           // visits that make a pose repeated
+  static const OptionTable<MeasuredIso9283Spec>& Table();
+  bool IsValid(std::string* why) const { return Table().Validate(*this, why); }
+};
+
 struct DatasetSpec {
   enum class Split { kColumn, kFraction, kEvery };
   std::string name;
@@ -125,9 +136,7 @@ struct DatasetSpec {
   // Measured data: ISO 9283 of the test rows' repeated poses (studies/measured_iso9283.h), validation
   // "iso9283" of compensator "-".
   bool iso9283 = false;
-  double iso_tolerance = 0.2e-3;                    // m
-  double iso_angle_tolerance = 0.1 * M_PI / 180.0;  // rad
-  int iso_min_cycles = 2;
+  MeasuredIso9283Spec iso;
   std::string summary;  // one line for the report
 };
 
@@ -145,12 +154,15 @@ struct CompensatorSpec {
   std::string options_yaml;
 };
 
+// A validation set's `iso9283:` map (keys and requirements: Table(), studies/study_options.cc).
 struct Iso9283Spec {
   double side = 0.2;                     // m
   Eigen::VectorXd center_configuration;  // rad; empty = searched
   int cycles = 30;
   double joint_noise = 0.001 * M_PI / 180.0;  // rad
   double measurement_noise = 0.0;             // m
+  static const OptionTable<Iso9283Spec>& Table();
+  bool IsValid(std::string* why) const { return Table().Validate(*this, why); }
 };
 
 struct ValidationSpec {
@@ -162,6 +174,9 @@ struct ValidationSpec {
   std::vector<std::pair<double, double>> joint_limits;  // rad; empty = the nominal robot's
   Iso9283Spec iso;
   std::string summary;
+  // The keys `random_targets` (count) and `orientation` (studies/study_options.cc); the parser reads the
+  // name, the joint ranges and the cube.
+  static const OptionTable<ValidationSpec>& Table();
 };
 
 struct Study {

@@ -34,4 +34,11 @@ Matrix6d PoseParameterJacobian(const Eigen::Vector3d& xyz, const Eigen::Vector3d
   return J;
 }
 
+Vector6d XyzRpyFromPose(const Eigen::Isometry3d& T) {
+  Vector6d v;
+  v.head<3>() = T.translation();
+  v.tail<3>() = RpyFromRotation(T.linear());
+  return v;
+}
+
 }  // namespace kincal

@@ -20,4 +20,7 @@ Eigen::Matrix3d LeftJacobianInverseSO3(const Eigen::Vector3d& phi);
 // p = T c (given: p), rows 3-5 the angular velocity of T (KinematicModel's Jacobian layout).
 Matrix6d PoseParameterJacobian(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy, const Eigen::Vector3d& p);
 
+// The parameters of such a pose: x, y, z, roll, pitch, yaw (the inverse of PoseFromXyzRpy).
+Vector6d XyzRpyFromPose(const Eigen::Isometry3d& T);
+
 }  // namespace kincal

@@ -111,4 +111,11 @@ std::string SelectionTable(const nlohmann::json& selection) {
   return out.str();
 }
 
+std::string ChosenCandidate(const nlohmann::json& selection) {
+  for (const auto& c : selection.at("candidates")) {
+    if (c.at("chosen").get<bool>()) return c.at("candidate").get<std::string>();
+  }
+  return "";
+}
+
 }  // namespace kincal

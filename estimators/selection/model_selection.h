@@ -85,5 +85,7 @@ int OneStandardErrorChoice(const std::vector<CandidateScore>& scores);
 // fold_rms_mm, parameters, chosen) and as text for a terminal (one line per candidate).
 nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int folds);
 std::string SelectionTable(const nlohmann::json& selection);
+// The chosen candidate's name in that table; "" when none is chosen.
+std::string ChosenCandidate(const nlohmann::json& selection);
 
 }  // namespace kincal

@@ -19,10 +19,9 @@ namespace {
 class BackendRealDataTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BackendRealDataTest, Irb120FaroHeldOutErrorMatchesLeastSquares) {
-  Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no irb120_faro data");
   Dataset train, test;
-  SplitEvenOdd(all, &train, &test);
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
+                                  "no irb120_faro data");
   const Robot nominal = Irb120FaroNominal();
 
   Robot reference;

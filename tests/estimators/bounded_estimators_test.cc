@@ -11,12 +11,6 @@
 namespace kincal::testing {
 namespace {
 
-std::map<std::string, const ParameterEstimate*> ByName(const EstimationReport& report) {
-  std::map<std::string, const ParameterEstimate*> out;
-  for (const auto& p : report.parameters) out[p.name] = &p;
-  return out;
-}
-
 bool IsJointParameter(const std::string& name) {
   for (const char* prefix : {"alpha_", "a_", "theta_", "d_"}) {
     if (name.rfind(prefix, 0) == 0) return true;

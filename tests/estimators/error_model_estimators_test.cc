@@ -10,12 +10,6 @@
 namespace kincal::testing {
 namespace {
 
-std::map<std::string, const ParameterEstimate*> ByName(const EstimationReport& report) {
-  std::map<std::string, const ParameterEstimate*> out;
-  for (const auto& p : report.parameters) out[p.name] = &p;
-  return out;
-}
-
 TEST_P(ErrorModelEstimatorTest, NoiseFreeDataGivesTheTruthToRoundingLevel) {
   const SimulatedCase c = RandomPoseCase(60, 0.0, 21);
   EstimationReport report;
@@ -61,27 +55,7 @@ TEST_P(ErrorModelEstimatorTest, NoisyDataGivesTheTruthWithinTheReportedStandardD
 }
 
 TEST_P(ErrorModelEstimatorTest, IdentifiesMarkersSessionBasesAndOrientation) {
-  SimulatedCase c = RandomPoseCase(1, 0.0, 1);
-  c.truth.markers = {{"A", Eigen::Vector3d(0.04, 0.03, 0.10)}, {"B", Eigen::Vector3d(-0.06, 0.02, 0.09)}};
-  c.truth.session_bases[1] = PoseFromXyzRpy(Eigen::Vector3d(-1.5, 1.1, 0.2), Eigen::Vector3d(-0.1, 0.15, -2.4));
-  c.truth.session_bases[2] = PoseFromXyzRpy(Eigen::Vector3d(0.3, 2.2, -0.3), Eigen::Vector3d(0.05, 0.1, 0.7));
-  c.nominal.markers = {{"A", Eigen::Vector3d(0.043, 0.028, 0.105)}, {"B", Eigen::Vector3d(-0.058, 0.024, 0.087)}};
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 60;
-  so.orientation = true;
-  so.seed = 12;
-  c.data = Simulate(c.nominal, c.truth, so);
-  for (size_t i = 0; i < c.data.rows.size(); ++i) {
-    Measurement& m = c.data.rows[i];
-    m.session = static_cast<int>(i / 2) % 3;
-    if (m.session != 0) {
-      // The tracker stood elsewhere: re-measure from its frame.
-      const Eigen::Isometry3d T_k_0 = c.truth.session_bases.at(m.session) * c.truth.model().base().inverse();
-      m.p = T_k_0 * m.p;
-      m.orientation = Eigen::Quaterniond(T_k_0.linear() * m.orientation->toRotationMatrix());
-    }
-  }
+  const SimulatedCase c = SessionCase(60, 0.0, 12);
   EstimationReport report;
   const Robot identified = Run(c.data, c.nominal, &report);
   EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();

@@ -48,11 +48,7 @@ RichCase MakeRichCase(bool encoders) {
   c.start.model().SetParameters(v);
   c.start.drives->ratio *= 1.003;
 
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 30;
-  so.seed = 3;
-  c.data = Simulate(c.controller, testing::SeedTruth(), so);
+  c.data = testing::RandomPoses(c.controller, testing::SeedTruth(), 30, 3);
   const char* markers[3] = {"A", "B", ""};
   for (size_t i = 0; i < c.data.rows.size(); ++i) {
     Measurement& m = c.data.rows[i];
@@ -183,10 +179,7 @@ TEST(ErrorModelProblem, RowBlocksFollowSessionsAndMarkers) {
 TEST(ErrorModelProblem, HoldsRedundantToolParametersByConstruction) {
   Robot nominal = testing::SeedNominal();
   nominal.markers["A"] = Eigen::Vector3d(0.04, 0.03, 0.1);
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 20;
-  Dataset data = Simulate(nominal, nominal, so);
+  Dataset data = testing::RandomPoses(nominal, nominal, 20);
   for (auto& m : data.rows) m.marker = "A";
   const ErrorModelProblem problem(nominal, nominal, data, ErrorModelOptions());
   std::map<std::string, std::string> held;
@@ -269,10 +262,7 @@ TEST(BaseRegistration, FindsTheTrackerFrameOfEachSession) {
   Rng rng(9);
   truth.model().SetBase(RandomPose(&rng, 3.0));
   truth.session_bases[4] = RandomPose(&rng, 3.0);
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 40;
-  Dataset data = Simulate(truth, truth, so);
+  Dataset data = testing::RandomPoses(truth, truth, 40);
   for (size_t i = 0; i < data.rows.size(); i += 2) {
     Measurement& m = data.rows[i];
     m.session = 4;
@@ -296,10 +286,8 @@ TEST(StartPlacement, RecoversBasesAndMarkersFromAStartThatKnowsNeither) {
   truth.session_bases[2] = RandomPose(&rng, 3.0);
   truth.markers["A"] = Eigen::Vector3d(0.10, -0.05, 0.12);
   truth.markers["B"] = Eigen::Vector3d(-0.08, 0.02, 0.15);
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 90;  // session 2 gets 30: more than the 22 unknowns per coordinate of its rotation fit
-  Dataset data = Simulate(truth, truth, so);
+  // Session 2 gets 30 rows: more than the 22 unknowns per coordinate of its rotation fit.
+  Dataset data = testing::RandomPoses(truth, truth, 90);
   for (size_t i = 0; i < data.rows.size(); ++i) {
     Measurement& m = data.rows[i];
     m.marker = i % 2 ? "A" : "B";
@@ -336,10 +324,7 @@ TEST(StartPlacement, PlacesTheToolOrigin) {
   Eigen::Isometry3d tool = truth.model().tool();
   tool.translation() += Eigen::Vector3d(0.03, -0.11, 0.09);
   truth.model().SetTool(tool);
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 20;
-  const Dataset data = Simulate(truth, truth, so);
+  const Dataset data = testing::RandomPoses(truth, truth, 20);
   Robot start = testing::SeedNominal();
   const StartPlacement placement = PlaceStart(truth, data, ErrorModelOptions(), &start);
   EXPECT_LT(placement.rms, 1e-12);
@@ -349,10 +334,7 @@ TEST(StartPlacement, PlacesTheToolOrigin) {
 
 TEST(Identifiability, SeedArmHoldsTheFirstRowAndTheLastOffsetAgainstTheTool) {
   const Robot nominal = testing::SeedNominal();
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 60;
-  const Dataset data = Simulate(nominal, testing::SeedTruth(), so);
+  const Dataset data = testing::RandomPoses(nominal, testing::SeedTruth(), 60);
   const PreparedErrorModel prep = PrepareErrorModel(nominal, nominal, data, ErrorModelOptions());
   const std::vector<std::string> expected = {"alpha_1", "a_1", "theta_1", "d_1", "theta_6", "d_6"};
   EXPECT_EQ(prep.identifiability.unidentifiable_names, expected);
@@ -370,25 +352,9 @@ TEST(Identifiability, SeedArmHoldsTheFirstRowAndTheLastOffsetAgainstTheTool) {
 
 TEST(Identifiability, ParallelAxesHoldOneOfTheirOffsets) {
   // ABB IRB 120 (modified DH, data README): joints 2 and 3 parallel, so d_2 and d_3 move the arm alike.
-  const Robot irb = ParseRobotYaml(R"(
-name: irb120
-convention: mdh
-units: {length: mm, angle: deg}
-joints:
-  - {alpha: 0, a: 0, theta: 0, d: 290}
-  - {alpha: -90, a: 0, theta: -90, d: 0}
-  - {alpha: 0, a: 270, theta: 0, d: 0}
-  - {alpha: -90, a: 70, theta: 0, d: 302}
-  - {alpha: 90, a: 0, theta: 0, d: 0}
-  - {alpha: -90, a: 0, theta: 180, d: 72}
-limits: [[-165, 165], [-110, 110], [-110, 70], [-160, 160], [-120, 120], [-180, 180]]
-tool: {xyz: [30, 20, 60], rpy: [0, 0, 0]}
-)",
-                                   "irb120");
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 60;
-  const Dataset data = Simulate(irb, irb, so);
+  Robot irb = testing::LoadExampleRobot("irb120_mdh.yaml");
+  irb.model().SetTool(PoseFromXyzRpy(Eigen::Vector3d(0.030, 0.020, 0.060), Eigen::Vector3d::Zero()));
+  const Dataset data = testing::RandomPoses(irb, irb, 60);
   const PreparedErrorModel prep = PrepareErrorModel(irb, irb, data, ErrorModelOptions());
   const std::vector<std::string> expected = {"alpha_1", "a_1", "theta_1", "d_1", "d_3", "theta_6", "d_6"};
   EXPECT_EQ(prep.identifiability.unidentifiable_names, expected);
@@ -396,10 +362,7 @@ tool: {xyz: [30, 20, 60], rpy: [0, 0, 0]}
 
 TEST(Identifiability, ObservabilityIndicesMatchADirectSvd) {
   const Robot nominal = testing::SeedNominal();
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 25;
-  const Dataset data = Simulate(nominal, testing::SeedTruth(), so);
+  const Dataset data = testing::RandomPoses(nominal, testing::SeedTruth(), 25);
   const PreparedErrorModel prep = PrepareErrorModel(nominal, nominal, data, ErrorModelOptions());
   const ErrorModelProblem& problem = *prep.problem;
   const Eigen::VectorXd x = problem.InitialX();
@@ -423,18 +386,14 @@ TEST(Identifiability, ObservabilityIndicesMatchADirectSvd) {
 
 TEST(ErrorModelProblem, RejectsBadInputClearly) {
   const Robot nominal = testing::SeedNominal();
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 8;  // 24 residuals for 36 structurally free parameters
-  Dataset data = Simulate(nominal, nominal, so);
+  Dataset data = testing::RandomPoses(nominal, nominal, 8);  // 24 residuals for 36 structurally free parameters
   try {
     ErrorModelProblem(nominal, nominal, data, ErrorModelOptions());
     ADD_FAILURE() << "expected an error";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("too few measurements"), std::string::npos) << e.what();
   }
-  so.poses = 40;
-  data = Simulate(nominal, nominal, so);
+  data = testing::RandomPoses(nominal, nominal, 40);
   ErrorModelOptions options;
   options.fixed = {"a_9"};
   EXPECT_THROW(ErrorModelProblem(nominal, nominal, data, options), std::invalid_argument);

@@ -22,11 +22,9 @@ namespace {
 class ErrorModelRealDataTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
-  Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
-                                  "no ../shared/data/irb120_faro");
   Dataset train, test;
-  SplitEvenOdd(all, &train, &test);
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
+                                  "no ../shared/data/irb120_faro");
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
   Robot identified;
   const EstimationReport report = Estimators().Create(GetParam())->Estimate(nominal, train, &identified);
@@ -41,11 +39,9 @@ TEST_P(ErrorModelRealDataTest, Irb120FaroFromTheExampleRobotFile) {
 // A robust loss from a far start: Huber at 0.3 mm once diverged to 29 mm held-out when the reflector
 // started at the flange, 124 mm from where it is.
 TEST_P(ErrorModelRealDataTest, Irb120FaroWithAHuberLossFromTheExampleRobotFile) {
-  Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
-                                  "no ../shared/data/irb120_faro");
   Dataset train, test;
-  SplitEvenOdd(all, &train, &test);
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
+                                  "no ../shared/data/irb120_faro");
   const Robot nominal = LoadExampleRobot("irb120_mdh.yaml");
   Robot identified;
   const EstimationReport report = Estimators()

@@ -67,4 +67,13 @@ inline void SplitEvenOdd(const Dataset& all, Dataset* even, Dataset* odd) {
   *odd = all.SelectRows(o);
 }
 
+// Reflector `smr` as above, split into even rows (train) and odd rows (test); false when the data
+// folder is absent.
+inline bool LoadIrb120FaroSplit(const std::string& folder, int smr, Dataset* train, Dataset* test) {
+  Dataset all;
+  if (!LoadIrb120Faro(folder, smr, &all)) return false;
+  SplitEvenOdd(all, train, test);
+  return true;
+}
+
 }  // namespace kincal::testing

@@ -22,9 +22,7 @@ TEST(JointErrorModel, CoefficientsAreEstimatedAtTheCramerRaoBound) {
   const auto estimator = Estimators().Create("least_squares");
   std::map<std::string, std::array<double, 3>> tally;  // sum error^2, sum var, count
   for (int trial = 0; trial < kTrials; ++trial) {
-    Dataset noisy = c.data;
-    Rng rng(Rng::Derive(555, trial));
-    for (auto& m : noisy.rows) m.p += noise * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+    const Dataset noisy = WithPositionNoise(c.data, noise, Rng::Derive(555, trial));
     Robot identified;
     const EstimationReport report = estimator->Estimate(c.nominal, noisy, &identified);
     ASSERT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();

@@ -92,11 +92,7 @@ TEST(JointErrorModel, ARegressorThatIsZeroByGeometryHasNoEffect) {
   nominal.joint_errors.Bind(nominal.model());
   Robot truth = nominal;
   truth.model().SetBase(TrackerBase());
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 100;
-  so.seed = 4;
-  const Dataset data = Simulate(nominal, truth, so);
+  const Dataset data = RandomPoses(nominal, truth, 100, 4);
   const PreparedErrorModel prep = PrepareErrorModel(nominal, nominal, data, ErrorModelOptions());
   const IdentifiabilityAnalysis& a = prep.identifiability;
   const auto held = std::find(a.unidentifiable_names.begin(), a.unidentifiable_names.end(), "gravity_2_link3_z");
@@ -129,11 +125,7 @@ TEST_P(JointErrorRecovery, NoiseFreeDataGiveTheTruthExactly) {
   }
   EXPECT_EQ(checked, static_cast<int>(c.identifiable.size()));
   // Held-out poses of the same program: predicted to rounding.
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = 50;
-  so.seed = 99;
-  const Dataset test = Simulate(c.nominal, c.truth, so);
+  const Dataset test = RandomPoses(c.nominal, c.truth, 50, 99);
   EXPECT_LT(EvaluatePredictions(c.nominal, identified, test).position_stats.max, 1e-11);
   std::printf("%s: %zu of %d joint error coefficients identifiable; %s\n", GetParam().c_str(), c.identifiable.size(),
               c.truth.joint_errors.num_coefficients(), report.BriefReport().c_str());

@@ -57,11 +57,7 @@ inline JointErrorCase MakeCase(int poses, uint64_t seed) {
   c.truth.model().SetBase(TrackerBase());
   AddJointErrors(&c.truth);
   RandomCoefficients(&c.truth, seed);
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = poses;
-  so.seed = seed;
-  c.data = Simulate(c.nominal, c.truth, so);
+  c.data = RandomPoses(c.nominal, c.truth, poses, seed);
   const PreparedErrorModel prep = PrepareErrorModel(c.nominal, c.nominal, c.data, ErrorModelOptions());
   std::set<std::string> free_names;
   for (const auto& p : prep.problem->parameters()) free_names.insert(p.name);
@@ -74,7 +70,7 @@ inline JointErrorCase MakeCase(int poses, uint64_t seed) {
       coefficients[static_cast<Eigen::Index>(k)] = 0.0;
   }
   c.truth.joint_errors.SetCoefficients(coefficients);
-  c.data = Simulate(c.nominal, c.truth, so);
+  c.data = RandomPoses(c.nominal, c.truth, poses, seed);
   return c;
 }
 

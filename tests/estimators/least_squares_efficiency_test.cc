@@ -26,9 +26,7 @@ TEST(LeastSquaresEfficiency, RmsErrorMatchesTheCramerRaoBound) {
   std::map<std::string, Tally> tally;
   std::vector<std::string> order;
   for (int trial = 0; trial < kTrials; ++trial) {
-    Dataset noisy = c.data;
-    Rng rng(Rng::Derive(777, trial));
-    for (auto& m : noisy.rows) m.p += noise * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+    const Dataset noisy = WithPositionNoise(c.data, noise, Rng::Derive(777, trial));
     Robot identified;
     const EstimationReport report = estimator->Estimate(c.nominal, noisy, &identified);
     ASSERT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();

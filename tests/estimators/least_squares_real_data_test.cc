@@ -16,10 +16,9 @@ namespace kincal::testing {
 namespace {
 
 TEST(LeastSquaresRealData, Irb120FaroHeldOutErrorMatchesTheReferenceFit) {
-  Dataset all;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all), "no irb120_faro data");
   Dataset train, test;
-  SplitEvenOdd(all, &train, &test);
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
+                                  "no irb120_faro data");
   const Robot nominal = Irb120FaroNominal();
   Robot identified;
   const EstimationReport report = Estimators().Create("least_squares")->Estimate(nominal, train, &identified);

@@ -18,6 +18,8 @@
 // "+ harmonic 2" at 0.632 / 2.31 mm, above geometry's 0.629.
 // On all three, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).
 // Skipped when the data folder is absent.
+#include <initializer_list>
+
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -51,12 +53,28 @@ Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test
   s.max = e.position_stats.max;
   const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
   s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov).coverage;
-  if (select) {
-    for (const auto& c : report.details.at("selection").at("candidates")) {
-      if (c.at("chosen").get<bool>()) s.chosen = c.at("candidate").get<std::string>();
-    }
-  }
+  if (select) s.chosen = ChosenCandidate(report.details.at("selection"));
   return s;
+}
+
+// Selection from the richest ur10 file (Ur10Rich(22)) against geometry and the nested files `groups`:
+// held-out RMS within 5 % of the best and never above geometry's, max within 1.5 x geometry's,
+// coverage >= 95 %.
+void ExpectSelectionHolds(const char* label, const Dataset& train, const Dataset& test,
+                          std::initializer_list<int> groups) {
+  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
+  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
+  double best = geometry.rms;
+  for (int g : groups) best = std::min(best, FitAndScore(Ur10Rich(g), train, test, false).rms);
+  std::printf(
+      "%s: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
+      "(geometry %.3f); coverage %.3f\n",
+      label, selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3, best * 1e3, selected.max * 1e3,
+      geometry.max * 1e3, selected.coverage);
+  EXPECT_LE(selected.rms, 1.05 * best);
+  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
+  EXPECT_LE(selected.max, 1.5 * geometry.max);
+  EXPECT_GE(selected.coverage, 0.95);
 }
 
 TEST(ModelSelectionRealData, Ur10SeriesD) {
@@ -65,19 +83,7 @@ TEST(ModelSelectionRealData, Ur10SeriesD) {
       LoadUr10Series(SharedDataPath("ur10_ipa2021/Series_D/measurements_iso_cubes.csv"), &all),
       "no ../shared/data/ur10_ipa2021");
   SplitEvenOdd(all, &train, &test);
-  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
-  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
-  double best = geometry.rms;
-  for (int groups : {1, 2, 3, 4, 22}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
-  std::printf(
-      "series D: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
-      "(geometry %.3f); coverage %.3f\n",
-      selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3, best * 1e3, selected.max * 1e3,
-      geometry.max * 1e3, selected.coverage);
-  EXPECT_LE(selected.rms, 1.05 * best);
-  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
-  EXPECT_LE(selected.max, 1.5 * geometry.max);
-  EXPECT_GE(selected.coverage, 0.95);
+  ExpectSelectionHolds("series D", train, test, {1, 2, 3, 4, 22});
 }
 
 TEST(ModelSelectionRealData, Ur10CampaignBToC) {
@@ -97,26 +103,13 @@ TEST(ModelSelectionRealData, Ur10CampaignBToC) {
     all.rows.push_back(m);
   }
   const Dataset train = all.SelectRows(train_rows), test = all.SelectRows(test_rows);
-  const Scored selected = FitAndScore(Ur10Rich(22), train, test, true);
-  const Scored geometry = FitAndScore(Ur10Rich(0), train, test, false);
-  double best = geometry.rms;
-  for (int groups : {1, 2, 3, 4}) best = std::min(best, FitAndScore(Ur10Rich(groups), train, test, false).rms);
-  std::printf(
-      "B -> C: selected %s, held-out RMS %.4f mm (geometry %.4f, best nested %.4f), max %.3f mm "
-      "(geometry %.3f); coverage %.3f\n",
-      selected.chosen.c_str(), selected.rms * 1e3, geometry.rms * 1e3, best * 1e3, selected.max * 1e3,
-      geometry.max * 1e3, selected.coverage);
-  EXPECT_LE(selected.rms, 1.05 * best);
-  EXPECT_LE(selected.rms, geometry.rms * (1 + 1e-9));
-  EXPECT_LE(selected.max, 1.5 * geometry.max);
-  EXPECT_GE(selected.coverage, 0.95);
+  ExpectSelectionHolds("B -> C", train, test, {1, 2, 3, 4});
 }
 
 TEST(ModelSelectionRealData, Irb120FaroKeepsTheRichModel) {
-  Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+  Dataset train, test;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
                                   "no ../shared/data/irb120_faro");
-  SplitEvenOdd(all, &train, &test);
   Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
   rich.markers.clear();                      // reflector 1 is the tool origin
   for (int joint = 0; joint < 6; ++joint) {  // the richest file: + harmonic 1 and 2 and backlash on every joint
@@ -249,11 +242,7 @@ TEST(ModelSelectionRealData, Irb120Wu2015Selected) {
     Robot identified;
     const EstimationReport report =
         Estimators().Create("least_squares", options)->Estimate(start, wu.calibration, &identified);
-    if (select) {
-      for (const auto& c : report.details.at("selection").at("candidates")) {
-        if (c.at("chosen").get<bool>()) *chosen = c.at("candidate").get<std::string>();
-      }
-    }
+    if (select) *chosen = ChosenCandidate(report.details.at("selection"));
     return std::make_pair(RmsWithTestPointFitted(start, identified, wu.test1),
                           RmsWithTestPointFitted(start, identified, wu.test2));
   };

@@ -106,10 +106,7 @@ std::string SelectedModel(const Robot& declared, const Dataset& data) {
   options["max_iterations"] = 100;
   Robot identified;
   const EstimationReport report = Estimators().Create("least_squares", options)->Estimate(declared, data, &identified);
-  for (const auto& c : report.details.at("selection").at("candidates")) {
-    if (c.at("chosen").get<bool>()) return c.at("candidate").get<std::string>();
-  }
-  return "";
+  return ChosenCandidate(report.details.at("selection"));
 }
 
 TEST(ModelSelection, KeepsTheTermTheDataNeedAndDropsTheOnesTheyDoNot) {

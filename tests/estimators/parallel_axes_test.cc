@@ -37,14 +37,6 @@ Robot TiltedTruth() {
   return truth;
 }
 
-Dataset RandomPoses(const Robot& nominal, const Robot& truth, int poses, uint64_t seed) {
-  SimulatorOptions so;
-  so.protocol = "random";
-  so.poses = poses;
-  so.seed = seed;
-  return Simulate(nominal, truth, so);
-}
-
 TEST(ParallelAxes, BetaIsRedundantExactlyWhereTheAxesAreNotParallel) {
   const Robot robot = Irb120("hayati");
   // Rows: axis 1 along the base's z (parallel), 1-2 and 3-4, 4-5, 5-6 at right angles, 2-3 parallel.

@@ -234,7 +234,9 @@ TEST(Priors, EveryErrorModelEstimatorReachesTheSameMapEstimate) {
   EXPECT_GT(with_prior, 10);
   // Every parameter the data determine worse than its prior is named weak, none is held for it.
   for (const auto& p : reference.parameters) {
-    if (p.free && std::isfinite(p.prior_sd)) EXPECT_EQ(p.weak, p.data_sd > p.prior_sd) << p.name;
+    if (p.free && std::isfinite(p.prior_sd)) {
+      EXPECT_EQ(p.weak, p.data_sd > p.prior_sd) << p.name;
+    }
   }
   for (const std::string name : {"ceres", "nlopt", "ipopt"}) {
     if (!Estimators().IsRegistered(name)) continue;

@@ -12,12 +12,6 @@
 namespace kincal::testing {
 namespace {
 
-std::map<std::string, const ParameterEstimate*> ByName(const EstimationReport& report) {
-  std::map<std::string, const ParameterEstimate*> out;
-  for (const auto& p : report.parameters) out[p.name] = &p;
-  return out;
-}
-
 // The derivative-free BOBYQA and the limited-memory Hessian against least_squares on 50 noisy poses.
 class SelectableAlgorithmTest : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
 #include "robot/prediction.h"
 #include "tests/estimators/irb120_faro.h"
 #include "tests/support/test_util.h"
@@ -15,20 +16,16 @@ namespace kincal::testing {
 namespace {
 
 TEST(Irb120FaroSelect, Reflector1FromTheRichestFile) {
-  Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Faro(SharedDataPath("irb120_faro"), 1, &all),
+  Dataset train, test;
+  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroSplit(SharedDataPath("irb120_faro"), 1, &train, &test),
                                   "no ../shared/data/irb120_faro");
-  SplitEvenOdd(all, &train, &test);
   Robot rich = LoadExampleRobot("irb120_joint_errors.yaml");
   rich.markers.clear();  // reflector 1 is the tool origin
   Robot identified;
   const EstimationReport report = Estimators()
                                       .Create("least_squares", YAML::Load("{max_iterations: 200, select: true}"))
                                       ->Estimate(rich, train, &identified);
-  std::string chosen;
-  for (const auto& c : report.details.at("selection").at("candidates")) {
-    if (c.at("chosen").get<bool>()) chosen = c.at("candidate").get<std::string>();
-  }
+  const std::string chosen = ChosenCandidate(report.details.at("selection"));
   const double rms = EvaluatePredictions(rich, identified, test).position_stats.rms;
   std::printf("irb120_faro reflector 1, selected %s: held-out RMS %.4f mm\n", chosen.c_str(), rms * 1e3);
   EXPECT_EQ(chosen, "+ approach 5");

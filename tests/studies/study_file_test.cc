@@ -131,7 +131,7 @@ TEST_F(StudyFileTest, MalformedFilesNameTheKeyAndPlace) {
       {"unknown compensator",
        datasets + validation + "compensators: [{method: nope}]\n",
        {"compensators[0].method", "unknown method 'nope'"}},
-      {"trials zero", datasets + validation + "trials: 0\n", {"trials", "integer >= 1"}},
+      {"trials zero", datasets + validation + "trials: 0\n", {"study.yaml:7:9: trials: must be >= 1, got '0'"}},
       {"duplicate dataset",
        "datasets:\n  - {name: d, simulate: {}}\n  - {name: d, simulate: {}}\n" + validation,
        {"datasets[1].name", "duplicate"}},

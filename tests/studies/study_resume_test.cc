@@ -185,6 +185,18 @@ TEST_F(StudyResumeTest, JournalOfAnotherStudyOrShardIsRefused) {
   std::filesystem::create_directories(tmp.path("x"));
   std::ofstream(tmp.path("x/" + std::string(StudyJournal::kFileName))) << "hello, world\n";
   EXPECT_THROW(Run(tmp.path("x")), std::invalid_argument);
+  // A journal of another format version (its records hold other columns), whatever its fingerprint.
+  std::string old_version = before;
+  old_version.replace(old_version.find("journal v2 "), 11, "journal v1 ");
+  std::filesystem::create_directories(tmp.path("v1"));
+  std::ofstream(tmp.path("v1/" + std::string(StudyJournal::kFileName))) << old_version;
+  try {
+    Run(tmp.path("v1"));
+    ADD_FAILURE() << "expected the journal of another version to be refused";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("another kincal version (kincal study journal v1"), std::string::npos)
+        << e.what();
+  }
 }
 
 // A journal that cannot be written (here: the file-size limit, as a full disk would) is an IoError naming

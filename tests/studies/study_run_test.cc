@@ -263,12 +263,7 @@ TEST_F(StudyRunTest, SensitivitySweepGivesCurves) {
 
 TEST_F(StudyRunTest, MeasuredDataIsScoredOnItsTestRows) {
   TempDir tmp;
-  SimulatorOptions o;
-  o.protocol = "random";
-  o.poses = 40;
-  o.noise_sigma = 20e-6;
-  Dataset data = Simulate(testing::SeedNominal(), testing::SeedTruth(), o);
-  WriteDataset(data, tmp.path("measured.csv"));
+  WriteDataset(testing::SeedMeasurements(40, 20e-6), tmp.path("measured.csv"));
   const Study s = ParseStudy(
       "name: real\ntrials: 3\nrobots: {nominal: " + testing::SourcePath("examples/robots/seed_nominal.yaml") +
           "}\ndatasets:\n"

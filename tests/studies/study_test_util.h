@@ -1,8 +1,10 @@
 #pragma once
 // Small studies for the tests: seed robots, few poses and targets, so that each run takes a fraction of a
 // second (also under the sanitizers).
+#include <cstdint>
 #include <string>
 
+#include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
 namespace kincal::testing {
@@ -33,6 +35,17 @@ inline std::string SmallStudyYaml() {
          "validation:\n"
          "  - {name: targets, random_targets: 12}\n"
          "  - {name: cube, iso9283: {side: 150mm, cycles: 6, joint_noise: 0.002}}\n";
+}
+
+// Measurements of the seed's truth at `poses` random configurations with `noise` per axis (m), as a
+// measured dataset of a study would hold them.
+inline Dataset SeedMeasurements(int poses, double noise, uint64_t seed = 1) {
+  SimulatorOptions o;
+  o.protocol = "random";
+  o.poses = poses;
+  o.noise_sigma = noise;
+  o.seed = seed;
+  return Simulate(SeedNominal(), SeedTruth(), o);
 }
 
 // The files of a study's output folder that must be byte-identical between runs of the same study

@@ -144,48 +144,69 @@ class JacobianIkCompensator final : public Compensator {
 
 TestRegistries MakeTestRegistries(const Robot& truth, bool with_failures) {
   TestRegistries r;
-  r.estimators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+  r.estimators.Register({"none",
+                         "baseline",
+                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
                            return std::make_unique<NoneEstimator>(NoneEstimator::Options::FromYaml(o));
-                         }});
-  r.estimators.Register(
-      {"base_kabsch", "test double: base transform only", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-         OptionsReader(o, "base_kabsch").Finish();
-         return std::make_unique<BaseKabschEstimator>();
-       }});
-  r.estimators.Register(
-      {"oracle", "test double: returns the truth", [truth](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-         OptionsReader(o, "oracle").Finish();
-         return std::make_unique<OracleEstimator>(truth);
-       }});
-  r.estimators.Register({"throws", "test double: always throws", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                         },
+                         {}});
+  r.estimators.Register({"base_kabsch",
+                         "test double: base transform only",
+                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                           OptionsReader(o, "base_kabsch").Finish();
+                           return std::make_unique<BaseKabschEstimator>();
+                         },
+                         {}});
+  r.estimators.Register({"oracle",
+                         "test double: returns the truth",
+                         [truth](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                           OptionsReader(o, "oracle").Finish();
+                           return std::make_unique<OracleEstimator>(truth);
+                         },
+                         {}});
+  r.estimators.Register({"throws",
+                         "test double: always throws",
+                         [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
                            OptionsReader(o, "throws").Finish();
                            return std::make_unique<ThrowingEstimator>();
-                         }});
+                         },
+                         {}});
   if (with_failures) {
-    r.estimators.Register(
-        {"nan", "test double: returns a NaN parameter", [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
-           OptionsReader(o, "nan").Finish();
-           return std::make_unique<NanEstimator>();
-         }});
-    r.compensators.Register(
-        {"throws", "test double: throws an int", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
-           OptionsReader(o, "throws").Finish();
-           return std::make_unique<ThrowingCompensator>();
-         }});
-    r.compensators.Register(
-        {"nan", "test double: returns NaN joint angles", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
-           OptionsReader(o, "nan").Finish();
-           return std::make_unique<NanCompensator>();
-         }});
+    r.estimators.Register({"nan",
+                           "test double: returns a NaN parameter",
+                           [](const YAML::Node& o) -> std::unique_ptr<Estimator> {
+                             OptionsReader(o, "nan").Finish();
+                             return std::make_unique<NanEstimator>();
+                           },
+                           {}});
+    r.compensators.Register({"throws",
+                             "test double: throws an int",
+                             [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+                               OptionsReader(o, "throws").Finish();
+                               return std::make_unique<ThrowingCompensator>();
+                             },
+                             {}});
+    r.compensators.Register({"nan",
+                             "test double: returns NaN joint angles",
+                             [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+                               OptionsReader(o, "nan").Finish();
+                               return std::make_unique<NanCompensator>();
+                             },
+                             {}});
   }
-  r.compensators.Register({"none", "baseline", [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
+  r.compensators.Register({"none",
+                           "baseline",
+                           [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
                              return std::make_unique<NoneCompensator>(NoneCompensator::Options::FromYaml(o));
-                           }});
-  r.compensators.Register({"jacobian_ik", "test double: damped Gauss-Newton on the identified robot",
+                           },
+                           {}});
+  r.compensators.Register({"jacobian_ik",
+                           "test double: damped Gauss-Newton on the identified robot",
                            [](const YAML::Node& o) -> std::unique_ptr<Compensator> {
                              OptionsReader(o, "jacobian_ik").Finish();
                              return std::make_unique<JacobianIkCompensator>();
-                           }});
+                           },
+                           {}});
   return r;
 }
 

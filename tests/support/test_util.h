@@ -9,8 +9,11 @@
 
 #include <Eigen/Core>
 
+#include "framework/dataset.h"
+#include "framework/random.h"
 #include "robot/robot.h"
 #include "robot/robot_file.h"
+#include "robot/simulator.h"
 
 namespace kincal::testing {
 
@@ -43,6 +46,23 @@ inline bool SharedDataRequired() {
 inline Robot LoadExampleRobot(const std::string& file) { return ReadRobotFile(SourcePath("examples/robots/" + file)); }
 inline Robot SeedNominal() { return LoadExampleRobot("seed_nominal.yaml"); }
 inline Robot SeedTruth() { return LoadExampleRobot("seed_identified.yaml"); }
+
+// `poses` random configurations within the joint limits, measured noise-free on `truth` and read back by
+// `controller` (robot/simulator.h's "random" protocol).
+inline Dataset RandomPoses(const Robot& controller, const Robot& truth, int poses, uint64_t seed = 1) {
+  SimulatorOptions so;
+  so.protocol = "random";
+  so.poses = poses;
+  so.seed = seed;
+  return Simulate(controller, truth, so);
+}
+
+// `data` with Gaussian noise of `sigma` (m per axis) added to every row's position, drawn from Rng(seed).
+inline Dataset WithPositionNoise(Dataset data, double sigma, uint64_t seed) {
+  Rng rng(seed);
+  for (auto& m : data.rows) m.p += sigma * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+  return data;
+}
 
 // Central difference of a vector function f: R^n -> R^m at x with step h: (f(x + h e_i) - f(x - h e_i)) / 2h.
 inline Eigen::MatrixXd CentralDifference(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
