@@ -6,6 +6,7 @@
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/pose_jacobians.h"
 #include "framework/math.h"
+#include "robot/joint_readings.h"
 
 namespace kincal {
 namespace {
