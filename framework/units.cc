@@ -74,10 +74,13 @@ std::string FormatInUnit(double si, const Unit& unit) {
   if (unit.to_si == 1.0) return FormatExact(si);
   const double in_unit = si / unit.to_si;
   for (int precision = 1; precision <= 17; ++precision) {
+    // std::to_chars with a precision writes what printf's "%.*g" writes (the standard says so), several
+    // times faster than glibc's printf: a million predicted rows are six million of these searches.
     char buffer[64];
-    std::snprintf(buffer, sizeof(buffer), "%.*g", precision, in_unit);
+    const std::to_chars_result end =
+        std::to_chars(buffer, buffer + sizeof(buffer), in_unit, std::chars_format::general, precision);
     double parsed = 0.0;
-    if (ParseDouble(buffer, &parsed) && parsed * unit.to_si == si) return FormatExact(parsed);
+    if (ParseDouble(std::string(buffer, end.ptr), &parsed) && parsed * unit.to_si == si) return FormatExact(parsed);
   }
   // No decimal maps back exactly (rare); the nearest 17-digit value is within one ulp.
   return FormatExact(in_unit);

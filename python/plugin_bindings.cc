@@ -118,6 +118,10 @@ void ReadReportKeys(const nlohmann::json& j, EstimationReport* report) {
       e.nominal = NumberOr(p, "nominal", NAN);
       e.value = NumberOr(p, "value", NAN);
       e.stddev = NumberOr(p, "stddev", NAN);
+      e.prior_sd = NumberOr(p, "prior_sd", NAN);
+      e.data_sd = NumberOr(p, "data_sd", NAN);
+      e.data_share = NumberOr(p, "data_share", NAN);
+      e.weak = p.value("weak", false);
       e.free = p.value("free", true);
       e.note = p.value("note", "");
       report->parameters.push_back(e);
