@@ -13,7 +13,6 @@
 namespace kincal {
 namespace {
 
-
 std::string Upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return s;
@@ -23,7 +22,8 @@ std::string Upper(std::string s) {
 Eigen::Vector3d AbcNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
   const double b = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
   const double a = std::atan2(R(1, 0), R(0, 0)), c = std::atan2(R(2, 1), R(2, 2));
-  const Eigen::Vector3d first(a / kDegree, b / kDegree, c / kDegree), second(first[0] + 180, 180 - first[1], first[2] + 180);
+  const Eigen::Vector3d first(a / kDegree, b / kDegree, c / kDegree),
+      second(first[0] + 180, 180 - first[1], first[2] + 180);
   Eigen::Vector3d best;
   double best_distance = INFINITY;
   for (const Eigen::Vector3d& candidate : {first, second}) {

@@ -113,9 +113,10 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
       const size_t eol = text.find('\n');
       const std::string first = text.substr(0, eol);
       if (first.rfind(kMagicPrefix, 0) == 0 && first.rfind(kMagic, 0) != 0) {
-        ThrowInputError(path_ + ": a journal of another kincal version (" + first.substr(0, first.find(' ', sizeof(kMagicPrefix))) +
-                        ", this one writes " + std::string(kMagic, sizeof(kMagic) - 2) +
-                        "); its results are not mixed in: choose another --out folder, or delete the journal to start over");
+        ThrowInputError(
+            path_ + ": a journal of another kincal version (" + first.substr(0, first.find(' ', sizeof(kMagicPrefix))) +
+            ", this one writes " + std::string(kMagic, sizeof(kMagic) - 2) +
+            "); its results are not mixed in: choose another --out folder, or delete the journal to start over");
       }
       if (first.rfind(kMagic, 0) != 0) {
         ThrowInputError(path_ + ": not a kincal study journal; remove it or choose another --out folder");

@@ -95,24 +95,26 @@ TEST_P(BadJointLevel, NamesFileLineColumnAndReason) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, BadJointLevel,
     ::testing::Values(
-        BadJointLevelCase{"unknown_type", "type: backlash", "type: wobble", "bad.yaml:22:22: unknown joint error type 'wobble'"},
+        BadJointLevelCase{"unknown_type", "type: backlash", "type: wobble",
+                          "bad.yaml:22:22: unknown joint error type 'wobble'"},
         BadJointLevelCase{"joint_out_of_range", "{joint: 5, type: approach}", "{joint: 7, type: approach}",
-                "expected a joint 1..6"},
+                          "expected a joint 1..6"},
         BadJointLevelCase{"unknown_coefficient", "sign: 0.003", "sine: 0.003", "unknown coefficient 'sine'"},
         BadJointLevelCase{"left_out_term", "link2_x: 0.012", "link2: 0.012", "unknown coefficient 'link2'"},
         BadJointLevelCase{"orders_on_backlash", "type: backlash,", "type: backlash, orders: [1],",
-                "only harmonic terms take 'orders'"},
+                          "only harmonic terms take 'orders'"},
         BadJointLevelCase{"no_orders", "type: harmonic, orders: [1, 2],", "type: harmonic,", "lists no orders"},
         BadJointLevelCase{"velocity_count", "[250, 250, 250, 320, 320, 420]", "[250, 250]",
-                "expected 6 numbers for velocity_limits"},
+                          "expected 6 numbers for velocity_limits"},
         BadJointLevelCase{"velocity_zero", "[250, 250, 250, 320, 320, 420]", "[250, 250, 0, 320, 320, 420]",
-                "positive velocity limit"},
+                          "positive velocity limit"},
         BadJointLevelCase{"coupling_rows", "[0, 1, 1, 0, 0, 0], ", "", "expected 'coupling' to list 6 rows"},
-        BadJointLevelCase{"coupling_singular", "[0, 1, 1, 0, 0, 0]", "[0, 1, 0, 0, 0, 0]", "coupling: the matrix is singular"},
+        BadJointLevelCase{"coupling_singular", "[0, 1, 1, 0, 0, 0]", "[0, 1, 0, 0, 0, 0]",
+                          "coupling: the matrix is singular"},
         BadJointLevelCase{"gravity_zero", "gravity: [0.01, 0, -1]", "gravity: [0, 0, 0]", "non-zero gravity"},
         BadJointLevelCase{"repeated_term", "{joint: 3, type: gravity}", "{joint: 2, type: gravity}", "given twice"},
         BadJointLevelCase{"approach_without_limits", "velocity_limits: [250, 250, 250, 320, 320, 420]\n", "",
-                "approach terms need velocity_limits"}),
+                          "approach terms need velocity_limits"}),
     [](const auto& info) { return info.param.label; });
 
 Dataset Rows(const std::vector<std::vector<double>>& qs) {
