@@ -94,12 +94,14 @@ nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dat
     // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
     const PredictionCovariance cov = PredictionCovariance::FromJson(last.details["prediction_covariance"]);
     const std::vector<double> sd = PredictionSd(identified, nominal, heldout, cov);
-    const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov);
+    const UncertaintyCheck check = CheckUncertainty(after.position, sd, cov, heldout);
     std::printf(
-        "held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm); "
-        "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis)\n",
+        "held-out prediction sd: %d of %d rows outside what the training poses support (sd > %.4f mm, or a "
+        "joint beyond the training range); "
+        "%.1f %% of errors within 3 sqrt(sd^2 + sigma_3d^2) (%.1f %% with sigma per axis; %.1f %% of the rows "
+        "inside the support)\n",
         check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
-        100.0 * check.coverage_1d);
+        100.0 * check.coverage_1d, 100.0 * check.coverage_supported);
     json["uncertainty"] = check.ToJson();
   }
   if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad

@@ -1,7 +1,8 @@
 // kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml] [--report R.json]
 // With --report (the JSON report of the `kincal identify` that wrote ROBOT.yaml), each row also gets its
 // predicted position standard deviation sd_mm = sqrt(trace(J C J^T)) and `outside_support` = 1 when sd_mm
-// exceeds 3 x the median over the training rows (estimators/error_model/prediction_uncertainty.h).
+// exceeds 3 x the median over the training rows or a joint reading lies more than 0.05 rad beyond the
+// training rows' range (estimators/error_model/prediction_uncertainty.h).
 // Where the robot model puts each measured marker: one row per dataset row, in order, so users can look at
 // their own residuals. The joint level (coupling, drives, joint errors with each row's previous pose)
 // applies as everywhere (robot/joint_readings.h).
@@ -103,7 +104,7 @@ void AddPredictCommand(CLI::App& app) {
         if (session) out << "," << m.session;
         out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
             << FormatInUnit(d.norm(), mm);
-        if (!sd.empty()) out << "," << FormatInUnit(sd[i], mm) << "," << (sd[i] > cov.SupportThreshold() ? 1 : 0);
+        if (!sd.empty()) out << "," << FormatInUnit(sd[i], mm) << "," << (cov.OutsideSupport(sd[i], m.q) ? 1 : 0);
         out << "\n";
       }
     });
@@ -111,9 +112,11 @@ void AddPredictCommand(CLI::App& app) {
     std::printf("wrote %s: %zu rows, RMS error %.6g mm\n", a->out.c_str(), data.rows.size(), rms * 1e3);
     if (!sd.empty()) {
       int outside = 0;
-      for (double s : sd) outside += s > cov.SupportThreshold() ? 1 : 0;
-      std::printf("%d rows outside what the training poses support (sd_mm > %.4g, 3 x the training rows' median)\n",
-                  outside, cov.SupportThreshold() * 1e3);
+      for (size_t i = 0; i < sd.size(); ++i) outside += cov.OutsideSupport(sd[i], data.rows[i].q) ? 1 : 0;
+      std::printf(
+          "%d rows outside what the training poses support (sd_mm > %.4g, 3 x the training rows' median, or a "
+          "joint more than %.3g beyond the training rows' range)\n",
+          outside, cov.SupportThreshold() * 1e3, PredictionCovariance::kJointMargin);
     }
   });
 }

@@ -157,7 +157,7 @@ void AddPredictionSd(const std::vector<EstimationReport>& reports, const Robot& 
   const std::vector<double> sd = PredictionSd(identified, controller, test, cov);
   for (size_t i = 0; i < points->size() && i < sd.size(); ++i) {
     (*points)[i].sd = sd[i];
-    (*points)[i].outside_support = sd[i] > cov.SupportThreshold();
+    (*points)[i].outside_support = cov.OutsideSupport(sd[i], test.rows[i].q);
   }
 }
 

@@ -78,6 +78,11 @@ nlohmann::json PredictionCovariance::ToJson() const {
   j["sigma_m"] = sigma;
   j["median_train_sd_m"] = median_train_sd;
   j["support_factor"] = kSupportFactor;
+  if (joint_min.size() > 0) {
+    j["joint_min"] = std::vector<double>(joint_min.data(), joint_min.data() + joint_min.size());
+    j["joint_max"] = std::vector<double>(joint_max.data(), joint_max.data() + joint_max.size());
+    j["joint_margin"] = kJointMargin;
+  }
   nlohmann::json m = nlohmann::json::array();
   for (Eigen::Index a = 0; a < matrix.rows(); ++a) {
     std::vector<double> row(matrix.cols());
@@ -94,6 +99,12 @@ PredictionCovariance PredictionCovariance::FromJson(const nlohmann::json& j) {
     c.names = j.at("names").get<std::vector<std::string>>();
     c.sigma = j.at("sigma_m").is_number() ? j.at("sigma_m").get<double>() : NAN;
     c.median_train_sd = j.at("median_train_sd_m").is_number() ? j.at("median_train_sd_m").get<double>() : NAN;
+    if (j.contains("joint_min") || j.contains("joint_max")) {
+      const auto lo = j.at("joint_min").get<std::vector<double>>(), hi = j.at("joint_max").get<std::vector<double>>();
+      if (lo.size() != hi.size()) throw std::invalid_argument("joint_min and joint_max differ in length");
+      c.joint_min = Eigen::Map<const Eigen::VectorXd>(lo.data(), static_cast<Eigen::Index>(lo.size()));
+      c.joint_max = Eigen::Map<const Eigen::VectorXd>(hi.data(), static_cast<Eigen::Index>(hi.size()));
+    }
     const auto& m = j.at("matrix");
     const size_t p = c.names.size();
     if (m.size() != p) throw std::invalid_argument("the covariance matrix does not match its names");
@@ -126,7 +137,21 @@ PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep,
   std::vector<int> columns(c.names.size());
   for (size_t j = 0; j < columns.size(); ++j) columns[j] = static_cast<int>(j);
   c.median_train_sd = Median(RowSd(problem, x, c.matrix, columns, problem.num_rows()));
+  for (const Measurement& m : problem.data().rows) {
+    if (c.joint_min.size() == 0) {
+      c.joint_min = c.joint_max = m.q;
+    } else if (m.q.size() == c.joint_min.size()) {
+      c.joint_min = c.joint_min.cwiseMin(m.q);
+      c.joint_max = c.joint_max.cwiseMax(m.q);
+    }
+  }
   return c;
+}
+
+bool PredictionCovariance::OutsideSupport(double sd, const Eigen::VectorXd& q) const {
+  if (sd > SupportThreshold()) return true;
+  if (joint_min.size() == 0 || q.size() != joint_min.size()) return false;
+  return ((q - joint_max).array() > kJointMargin).any() || ((joint_min - q).array() > kJointMargin).any();
 }
 
 std::vector<double> PredictionSd(const Robot& model, const Robot& controller, const Dataset& data,
@@ -154,22 +179,29 @@ nlohmann::json UncertaintyCheck::ToJson() const {
   return {{"rows", rows},
           {"outside_support", outside_support},
           {"coverage_3sigma", coverage},
-          {"coverage_3sigma_1d", coverage_1d}};
+          {"coverage_3sigma_1d", coverage_1d},
+          {"coverage_3sigma_supported", coverage_supported}};
 }
 
 UncertaintyCheck CheckUncertainty(const std::vector<double>& errors, const std::vector<double>& sd,
-                                  const PredictionCovariance& covariance) {
+                                  const PredictionCovariance& covariance, const Dataset& data) {
   UncertaintyCheck c;
-  c.rows = static_cast<int>(std::min(errors.size(), sd.size()));
-  int inside = 0, inside_1d = 0;
+  c.rows = static_cast<int>(std::min({errors.size(), sd.size(), data.rows.size()}));
+  int inside = 0, inside_1d = 0, inside_supported = 0;
   const double s2 = covariance.sigma * covariance.sigma;
   for (int i = 0; i < c.rows; ++i) {
-    if (sd[i] > covariance.SupportThreshold()) ++c.outside_support;
-    if (errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + 3.0 * s2)) ++inside;
+    const bool outside = covariance.OutsideSupport(sd[i], data.rows[i].q);
+    const bool within = errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + 3.0 * s2);
+    c.outside_support += outside;
+    inside += within;
+    inside_supported += within && !outside;
     if (errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + s2)) ++inside_1d;
   }
   if (c.rows > 0) c.coverage = static_cast<double>(inside) / c.rows;
   if (c.rows > 0) c.coverage_1d = static_cast<double>(inside_1d) / c.rows;
+  if (c.rows > c.outside_support) {
+    c.coverage_supported = static_cast<double>(inside_supported) / (c.rows - c.outside_support);
+  }
   return c;
 }
 

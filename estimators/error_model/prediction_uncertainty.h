@@ -13,7 +13,11 @@
 // error coefficients' SI units), sigma (m, per residual), and the median sd over the training rows.
 // `kincal predict --report REPORT.json` reads it back and maps it onto the robot's parameters by name.
 // A row is outside what the training poses support when sd > kSupportFactor x the median training sd
-// (3: a pose whose prediction is three times less certain than a typical training pose).
+// (3: a pose whose prediction is three times less certain than a typical training pose), or when one of
+// its joint readings lies more than kJointMargin beyond the range the training rows covered on that
+// joint. The second rule sees what the covariance cannot: a model's sd grows slowly outside the training
+// range, while what the model lacks need not (fanuc_boby2021: the joint-2 stop 16 deg beyond the trained
+// stops is 1.9 mm off with an sd of 0.19 mm, the arm's compliance).
 #include <string>
 #include <vector>
 
@@ -30,7 +34,13 @@ struct PredictionCovariance {
   Eigen::MatrixXd matrix;          // p x p, SI
   double sigma = NAN;              // m, noise per residual
   double median_train_sd = NAN;    // m, median of (1) over the training rows
+  // The training rows' joint readings, per joint: smallest and largest (rad; m for prismatic joints).
+  // Empty in a report that does not record them (then only the sd rule applies).
+  Eigen::VectorXd joint_min, joint_max;
+  static constexpr double kJointMargin = 0.05;  // rad (m for prismatic joints): 2.9 deg
   double SupportThreshold() const { return kSupportFactor * median_train_sd; }
+  // Outside the support: sd above SupportThreshold(), or a joint reading q beyond the training range.
+  bool OutsideSupport(double sd, const Eigen::VectorXd& q) const;
 
   nlohmann::json ToJson() const;
   // Throws std::invalid_argument when a key is missing or the matrix does not match the names.
@@ -56,9 +66,11 @@ struct UncertaintyCheck {
   int outside_support = 0;
   double coverage = NAN;
   double coverage_1d = NAN;
+  double coverage_supported = NAN;  // `coverage` of the rows inside the support only (what the user is told to trust)
   nlohmann::json ToJson() const;
 };
+// `data`: the rows of `errors` and `sd` (their joint readings).
 UncertaintyCheck CheckUncertainty(const std::vector<double>& errors, const std::vector<double>& sd,
-                                  const PredictionCovariance& covariance);
+                                  const PredictionCovariance& covariance, const Dataset& data);
 
 }  // namespace kincal

@@ -52,7 +52,7 @@ Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test
   s.rms = e.position_stats.rms;
   s.max = e.position_stats.max;
   const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
-  s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov).coverage;
+  s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov, test).coverage;
   if (select) s.chosen = ChosenCandidate(report.details.at("selection"));
   return s;
 }
@@ -162,6 +162,8 @@ TEST(PredictionUncertaintyRealData, FanucCoverageMissesOnlyTheExtrapolatedJoint2
                                   "no ../shared/data/fanuc_boby2021/sweeps.csv");
   const Dataset all = ParseDatasetCsv(csv, "fanuc_boby2021 (from sweeps.csv)");
   const Dataset train = all.Subset(Split::kTrain), test = all.Subset(Split::kTest);
+  std::vector<bool> outside;  // of the last fit: rows flagged outside the training poses' support
+  double supported_coverage = NAN;
   const auto fit = [&](const Robot& start, std::vector<double>* errors, std::vector<double>* bound) {
     Robot identified;
     const EstimationReport report =
@@ -172,7 +174,11 @@ TEST(PredictionUncertaintyRealData, FanucCoverageMissesOnlyTheExtrapolatedJoint2
     *errors = e.position;
     bound->clear();
     for (double s : sd) bound->push_back(3.0 * std::sqrt(s * s + 3.0 * cov.sigma * cov.sigma));
-    return CheckUncertainty(e.position, sd, cov).coverage;
+    outside.clear();
+    for (size_t i = 0; i < sd.size(); ++i) outside.push_back(cov.OutsideSupport(sd[i], test.rows[i].q));
+    const UncertaintyCheck check = CheckUncertainty(e.position, sd, cov, test);
+    supported_coverage = check.coverage_supported;
+    return check.coverage;
   };
   const Robot geometry = LoadExampleRobot("fanuc_r2000_nominal.yaml");
   std::vector<double> errors, bound;
@@ -189,8 +195,17 @@ TEST(PredictionUncertaintyRealData, FanucCoverageMissesOnlyTheExtrapolatedJoint2
               errors.size());
   EXPECT_NEAR(coverage, 51.0 / 54.0, 1e-9);
   ASSERT_EQ(misses.size(), 3u);
+  // The user is told: every miss is flagged outside the support (its joint 2 beyond the trained range),
+  // and the flag is specific (each sweep's last stop lies beyond its trained stops: at most 6 x 3 rows).
+  int flagged = 0;
+  for (bool b : outside) flagged += b;
+  std::printf("  %d of %zu held-out rows flagged outside the support; coverage of the others %.4f\n", flagged,
+              outside.size(), supported_coverage);
+  EXPECT_LE(flagged, 18);
+  EXPECT_EQ(supported_coverage, 1.0);  // where kincal says to trust the bound, it holds
   for (int i : misses) {
     const Measurement& m = test.rows[i];
+    EXPECT_TRUE(outside[i]) << "row " << i << ": a miss the user is not warned of";
     EXPECT_EQ(m.sweep, 2);
     EXPECT_GT(m.q[1], q2_trained + 0.2) << "row " << i << " is not beyond the trained joint-2 range";
     std::printf("  miss: row %d, %s, q2 %.0f deg, error %.3f mm, bound %.3f mm\n", i, m.marker.c_str(),

@@ -172,7 +172,7 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   const PredictionErrors errors = EvaluatePredictions(nominal, identified, test);
   const ErrorStats& e = errors.position_stats;
   const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
-  const double coverage = CheckUncertainty(errors.position, PredictionSd(identified, nominal, test, cov), cov).coverage;
+  const double coverage = CheckUncertainty(errors.position, PredictionSd(identified, nominal, test, cov), cov, test).coverage;
   std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm, coverage %.4f\n", c.series.c_str(),
               chosen.c_str(), e.rms * 1e3, e.max * 1e3, coverage);
   EXPECT_EQ(chosen, c.chosen);
