@@ -24,6 +24,23 @@
 namespace kincal {
 namespace {
 
+// A name a robot file can carry as text: valid UTF-8 without control characters. URDF allows any XML
+// string (a character reference can put a newline in a joint's name); such a name would not survive the
+// robot file's YAML unchanged.
+bool IsPlainName(const std::string& name) {
+  for (size_t i = 0; i < name.size();) {
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (c < 0x20 || c == 0x7f) return false;
+    const int extra = c < 0x80 ? 0 : (c >> 5) == 0x6 ? 1 : (c >> 4) == 0xe ? 2 : (c >> 3) == 0x1e ? 3 : -1;
+    if (extra < 0 || i + static_cast<size_t>(extra) >= name.size()) return false;
+    for (int k = 1; k <= extra; ++k) {
+      if ((static_cast<unsigned char>(name[i + k]) >> 6) != 0x2) return false;
+    }
+    i += 1 + extra;
+  }
+  return true;
+}
+
 // Keeps urdfdom's console messages off stderr and remembers the first error, for a one-line message.
 class CaptureErrors : public console_bridge::OutputHandler {
  public:
@@ -126,6 +143,10 @@ Chain ParseChain(const std::string& text, const std::string& path, const std::st
                                                               : "unknown";
       ThrowInputError(path + ": joint '" + joint->name + "' is " + type +
                       "; kincal models revolute, continuous, prismatic and fixed joints");
+    }
+    if (!IsPlainName(joint->name) || !IsPlainName(link->name) || !IsPlainName(joint->parent_link_name)) {
+      ThrowInputError(path + ": a joint or link name of the chain from '" + base_link +
+                      "' holds a control character or bytes that are not UTF-8 (robot files keep names as text)");
     }
     chain.joints.insert(chain.joints.begin(), joint);
     link = chain.model->getLink(joint->parent_link_name);
