@@ -94,17 +94,6 @@ double GapToUrdf(const KinematicModel& model, const Eigen::Isometry3d& T_urdf_me
   return worst;
 }
 
-std::unique_ptr<KinematicModel> MakeRandom(std::unique_ptr<KinematicModel> model, uint64_t seed) {
-  Rng rng(seed);
-  Eigen::VectorXd p = model->Parameters();
-  for (int i = 0; i < p.size(); ++i) {
-    const bool angle = model->parameter_info()[i].kind == ParameterInfo::Kind::kAngle;
-    p[i] = angle ? rng.Uniform(-1.5, 1.5) : rng.Uniform(-0.5, 0.5);
-  }
-  model->SetParameters(p);
-  return model;
-}
-
 // ---- Conversions -------------------------------------------------------------------------------------
 
 TEST(Conversion, SeedArmToEveryConventionAndBackKeepsTheKinematics) {
@@ -143,7 +132,7 @@ TEST(Conversion, RandomArmsWithPrismaticJointsBetweenEveryPair) {
   for (const auto& joints : arms) {
     for (const auto& from : kConventions) {
       auto model = ConvertModel(MdhModel(joints), from);  // the right type
-      model = MakeRandom(std::move(model), ++seed);
+      model = testing::RandomizedModel(std::move(model), ++seed);
       for (const auto& to : kConventions) {
         std::unique_ptr<KinematicModel> converted;
         ASSERT_NO_THROW(converted = ConvertModel(*model, to)) << from << " -> " << to;
