@@ -104,7 +104,7 @@ std::string SelectionTable(const nlohmann::json& selection) {
   const bool audit = selection.contains("audit");
   const auto mm = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
   std::snprintf(line, sizeof line, "  %-22s %10s %22s%s  %s\n", "candidate", "parameters", "CV RMS +- se (mm)",
-                audit ? "  held-out RMS, max (mm)" : "", "chosen");
+                audit ? "  held-out RMS   max (mm)" : "", "chosen");
   out << line;
   for (const auto& c : selection.at("candidates")) {
     char held_out[64] = "";
