@@ -1,12 +1,14 @@
 // identify --select --audit (estimators/selection/selection_audit.h): every nested candidate's held-out
 // RMS and max equal those of a separate identify of that candidate's robot file (same method and options,
 // with the default priors selection fits with), the chosen one's equal identify's own validation, the table
-// and the summary line are printed, and the same run gives the same figures. Bad use (--audit without
+// and the summary line are printed, the same run gives the same figures, and held-out rows given as a split
+// column give what --validate gives. Bad use (--audit without
 // --select, or without held-out rows) exits 2 with one line and writes nothing.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <tuple>
 #include <string>
 #include <vector>
@@ -77,6 +79,25 @@ class SelectionAuditCli : public ::testing::Test {
                      dir_.path(report + ".json") + extra);
   }
 
+  // train.csv's rows (split train) then heldout.csv's (split test), in one file.
+  void WriteSplitDataset(const std::string& path) const {
+    std::string out;
+    for (const auto& [file, split] : {std::pair{"train.csv", "train"}, std::pair{"heldout.csv", "test"}}) {
+      std::istringstream in(testing::ReadText(dir_.path(file)));
+      bool header = true;
+      for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        if (header) {
+          header = false;
+          if (out.empty()) out += line + ",split\n";
+          continue;
+        }
+        out += line + "," + split + "\n";
+      }
+    }
+    testing::WriteText(path, out);
+  }
+
   TempDir dir_;
   std::string nominal_;
 };
@@ -139,6 +160,27 @@ TEST_F(SelectionAuditCli, EveryCandidateScoresWhatItsOwnIdentifyScores) {
   r = Identify(nominal_, "o.yaml", " --select --audit", "again");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(ReadJson(dir_.path("again.json")).at("stages").back().at("details").at("selection"), selection);
+
+  // The held-out rows as the test rows of a split column: the same training rows, the same figures for the
+  // candidates without a backlash term (there the first held-out row's previous pose is the last training
+  // row's, not none), and the chosen one's still identify's validation.
+  WriteSplitDataset(dir_.path("split.csv"));
+  r = RunKincal("identify --nominal " + nominal_ + " --data " + dir_.path("split.csv") +
+                " --method least_squares --options " + dir_.path("o.yaml") + " --select --audit --out " +
+                dir_.path("split.yaml") + " --report " + dir_.path("split.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json split = ReadJson(dir_.path("split.json"));
+  const nlohmann::json& split_selection = split.at("stages").back().at("details").at("selection");
+  EXPECT_EQ(split_selection.at("audit").at("held_out_rows").get<int>(), 60);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(split_selection.at("candidates")[c].at("held_out_rms_mm"), candidates[c].at("held_out_rms_mm")) << c;
+  }
+  for (const auto& c : split_selection.at("candidates")) {
+    if (c.at("chosen").get<bool>()) {
+      EXPECT_NEAR(c.at("held_out_rms_mm").get<double>(), split.at("validation").at("identified").at("rms").get<double>(),
+                  1e-9);
+    }
+  }
 }
 
 TEST_F(SelectionAuditCli, BadUseExitsTwoWithOneLine) {
