@@ -8,6 +8,42 @@
 // deviations still predicts with an sd). The trace, not the largest eigenvalue: sd^2 is then the expected squared
 // length of the 3-D prediction error that comes from the parameters, the quantity a user compares with a 3-D error.
 //
+//
+// (1) is the parameters' part only: it says how far the estimate could move within the model, never what
+// the model lacks (an arm's compliance where the file has no gravity term, a thermal drift), which
+// the training residuals partly absorb into sigma and which grows where the training poses do not reach.
+// The reported sd adds a model-inadequacy variance tau^2, measured out of sample:
+//   sd_pred(row)^2 = sd(row)^2 + tau(row)^2                                                        (2)
+// tau^2 is what the blocked K-fold cross-validation of the training rows (model_selection.h, the same
+// folds) sees beyond what the bound already explains. In fold k the model is fitted on the other blocks,
+// with noise estimate sigma_k and covariance C_k; if the bound were right, a held-out row i's 3-D error e_i
+// would have E|e_i|^2 = E_i = 3 sigma_k^2 + sd_k(i)^2 ((1) with C_k). tau^2 is the variance that is
+// missing, x_i = |e_i|^2 - E_i, averaged with inverse-variance weights (|e|^2 of a Gaussian 3-D error
+// has a variance proportional to its mean squared, (E_i + tau^2)^2), to a fixed point:
+//   tau^2 = max(0, sum_i w_i x_i / sum_i w_i),  w_i = 1 / (E_i + tau^2)^2                           (3)
+// (the moment estimator of a random-effects variance, Paule and Mandel 1982). Why this quantity: the
+// bound 3 sqrt(sd_pred^2 + sigma_3d^2) is applied with the fit's own sigma and covariance to rows the fit
+// did not see; (3) is the shortfall of exactly that bound's variance on rows the fold's fit did not see, in
+// the fold's own sigma and covariance, so that what sigma absorbs in sample is not counted twice and the
+// parameters' part, larger in a fold (fewer rows), is not taken for inadequacy. The weights matter: a
+// block that holds out a whole joint's sweep leaves that joint's parameters to their priors, its rows'
+// sd_k reaches tens of mm, and an unweighted mean of x_i would be swamped by the noise of those rows.
+// C_k is computed with the same pseudo-inverse and priors (weighed by sigma_k) as C; each fold's fit is the
+// one the selection scores (model_selection.h: one Gauss-Newton step from the fold's geometry fit), so e
+// and sd_k come from the sums the selection accumulates anyway: tau costs no extra fit.
+// tau depends on the row in one way the folds measure: rows with a joint reading beyond the fold's
+// training range (the joint-range rule below) get their own estimate, tau_beyond (at least tau). On
+// fanuc_boby2021 the fold that holds out the joint-2 sweep's middle and end predicts its 34 deg stop
+// 1.3 mm off with sd_k 0.18 mm, while the rows within range match their bound: what the model lacks
+// (compliance) grows where the training poses do not reach, and a single tau pooled over both kinds would
+// be too wide inside and too narrow outside. Finer laws (tau growing with the distance, per joint) would
+// rest on the few rows each fold holds beyond its range; two numbers are what the folds support.
+// Without cross-validation (no `select`) tau is 0 and the report says so (inadequacy_source "none": the sd
+// is the parameters' part only), unless the options ask `cross_validate: true`: the same folds, each
+// fitting the model itself (not geometry plus a step), (3) for that model alone. It costs K more fits,
+// which a plain fit should not pay unasked (studies run thousands); a user who wants an honest bound asks
+// for it, and identify's summary says which of the two the sd is.
+//
 // The covariance travels in the identify report (details.prediction_covariance of the stage, written by
 // every error-model estimator): parameter names, C in SI units of x (m, rad, the ratio scale, joint
 // error coefficients' SI units), sigma (m, per residual), and the median sd over the training rows.
@@ -18,6 +54,7 @@
 // joint. The second rule sees what the covariance cannot: a model's sd grows slowly outside the training
 // range, while what the model lacks need not (fanuc_boby2021: the joint-2 stop 16 deg beyond the trained
 // stops is 1.9 mm off with an sd of 0.19 mm, the arm's compliance).
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -34,6 +71,9 @@ struct PredictionCovariance {
   Eigen::MatrixXd matrix;          // p x p, SI
   double sigma = NAN;              // m, noise per residual
   double median_train_sd = NAN;    // m, median of (1) over the training rows
+  double inadequacy = 0.0;         // m, tau of (2) within the training joint range; 0 in a report without it
+  double inadequacy_beyond = 0.0;  // m, tau of (2) for a row with a joint beyond it; = inadequacy when absent
+  std::string inadequacy_source = "none";  // "cross-validation of the selection", "cross-validation", "none"
   // The training rows' joint readings, per joint: smallest and largest (rad; m for prismatic joints).
   // Empty in a report that does not record them (then only the sd rule applies).
   Eigen::VectorXd joint_min, joint_max;
@@ -41,6 +81,13 @@ struct PredictionCovariance {
   double SupportThreshold() const { return kSupportFactor * median_train_sd; }
   // Outside the support: sd above SupportThreshold(), or a joint reading q beyond the training range.
   bool OutsideSupport(double sd, const Eigen::VectorXd& q) const;
+  bool BeyondJointRange(const Eigen::VectorXd& q) const;
+  double Inadequacy(const Eigen::VectorXd& q) const { return BeyondJointRange(q) ? inadequacy_beyond : inadequacy; }
+  // (2) at a row with joint readings q from its parameters' part sd (1).
+  double PredictedSd(double sd, const Eigen::VectorXd& q) const {
+    const double tau = Inadequacy(q);
+    return std::sqrt(sd * sd + tau * tau);
+  }
 
   nlohmann::json ToJson() const;
   // Throws std::invalid_argument when a key is missing or the matrix does not match the names.
@@ -57,10 +104,20 @@ PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep,
 std::vector<double> PredictionSd(const Robot& model, const Robot& controller, const Dataset& data,
                                  const PredictionCovariance& covariance);
 
+// The held-out rows of a cross-validation, for (3): |e|^2 (m^2), E = 3 sigma_k^2 + sd_k^2 (m^2), and
+// whether a joint reading lay beyond the fold's training range.
+struct InadequacySample {
+  std::vector<double> squared_error, expected;
+  std::vector<bool> beyond;
+};
+// tau (m) of (3) over the rows whose `beyond` equals the argument; 0 without such rows.
+double EstimateInadequacy(const InadequacySample& sample, bool beyond);
+
 // Summary of a held-out set: rows outside the support, and the fraction of 3-D errors within
-// 3 sqrt(sd^2 + sigma_3d^2) (the calibration check of (1)). sigma_3d = sqrt(3) sigma: the noise of a 3-D
-// position (the trace of its covariance, like sd), so that sd^2 + sigma_3d^2 is the expected squared
+// 3 sqrt(sd_pred^2 + sigma_3d^2) (the calibration check of (2)). sigma_3d = sqrt(3) sigma: the noise of a 3-D
+// position (the trace of its covariance, like sd), so that sd_pred^2 + sigma_3d^2 is the expected squared
 // 3-D error. `coverage_1d` uses sigma per residual instead (a stricter check, reported beside it).
+// `sd`: the parameters' part (1), as PredictionSd returns it; the support rule applies to it, tau is added here.
 struct UncertaintyCheck {
   int rows = 0;
   int outside_support = 0;

@@ -52,6 +52,9 @@ namespace kincal {
 struct ModelSelectionOptions {
   bool select = false;  // key `select`
   int folds = 5;        // key `select_folds`: K, >= 2
+  // key `cross_validate`: without `select`, the same blocked CV for the fitted model alone, for the
+  // model-inadequacy tau of the predicted sd (prediction_uncertainty.h (3)); `select` always measures it.
+  bool cross_validate = false;
 
   // Keys select, select_folds.
   static const OptionTable<ModelSelectionOptions>& Table();
@@ -76,6 +79,9 @@ struct CandidateScore {
   std::vector<double> fold_rms;  // m, one per fold
   double cv_rms = 0.0;           // m: mean of fold_rms
   double se = 0.0;               // m: standard deviation of fold_rms / sqrt(K)
+  // m: tau of prediction_uncertainty.h (3) from the same held-out rows: rows within the fold's training
+  // joint range, and rows beyond it (at least the former).
+  double inadequacy = 0.0, inadequacy_beyond = 0.0;
   bool chosen = false;
 };
 // Index of the simplest candidate within one se of the best; candidates in order of complexity.

@@ -37,7 +37,7 @@ namespace kincal::testing {
 namespace {
 
 struct Scored {
-  double rms = NAN, max = NAN, coverage = NAN;
+  double rms = NAN, max = NAN, coverage = NAN, coverage_supported = NAN, coverage_param = NAN, tau = NAN;
   std::string chosen;
 };
 
@@ -52,7 +52,17 @@ Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test
   s.rms = e.position_stats.rms;
   s.max = e.position_stats.max;
   const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
-  s.coverage = CheckUncertainty(e.position, PredictionSd(identified, start, test, cov), cov, test).coverage;
+  const std::vector<double> sd = PredictionSd(identified, start, test, cov);
+  const UncertaintyCheck check = CheckUncertainty(e.position, sd, cov, test);
+  s.coverage = check.coverage;
+  s.coverage_supported = check.coverage_supported;
+  s.tau = cov.inadequacy;
+  PredictionCovariance parameters_only = cov;  // the bound before (2): the parameters' part alone
+  parameters_only.inadequacy = parameters_only.inadequacy_beyond = 0.0;
+  s.coverage_param = CheckUncertainty(e.position, sd, parameters_only, test).coverage;
+  std::printf("  tau %.4f mm, beyond the joint range %.4f mm (%s); coverage %.4f (supported %.4f), parameters' "
+              "part only %.4f\n", s.tau * 1e3, cov.inadequacy_beyond * 1e3, cov.inadequacy_source.c_str(), s.coverage,
+              s.coverage_supported, s.coverage_param);
   if (select) s.chosen = ChosenCandidate(report.details.at("selection"));
   return s;
 }
