@@ -79,7 +79,7 @@ nlohmann::json PredictionCovariance::ToJson() const {
   j["median_train_sd_m"] = median_train_sd;
   j["support_factor"] = kSupportFactor;
   j["inadequacy_m"] = inadequacy;
-  j["inadequacy_beyond_m"] = inadequacy_beyond;
+  if (!inadequacy_beyond.empty()) j["inadequacy_beyond_m"] = inadequacy_beyond;
   j["inadequacy_source"] = inadequacy_source;
   if (joint_min.size() > 0) {
     j["joint_min"] = std::vector<double>(joint_min.data(), joint_min.data() + joint_min.size());
@@ -108,11 +108,10 @@ PredictionCovariance PredictionCovariance::FromJson(const nlohmann::json& j) {
         throw std::invalid_argument("inadequacy_m must be finite and >= 0");
       c.inadequacy_source = j.value("inadequacy_source", std::string("cross-validation"));
     }
-    c.inadequacy_beyond = c.inadequacy;
     if (j.contains("inadequacy_beyond_m")) {
-      c.inadequacy_beyond = j.at("inadequacy_beyond_m").get<double>();
-      if (!(c.inadequacy_beyond >= 0.0) || !std::isfinite(c.inadequacy_beyond))
-        throw std::invalid_argument("inadequacy_beyond_m must be finite and >= 0");
+      c.inadequacy_beyond = j.at("inadequacy_beyond_m").get<std::vector<double>>();
+      for (double t : c.inadequacy_beyond)
+        if (!(t >= 0.0) || !std::isfinite(t)) throw std::invalid_argument("inadequacy_beyond_m must be finite and >= 0");
     }
     if (j.contains("joint_min") || j.contains("joint_max")) {
       const auto lo = j.at("joint_min").get<std::vector<double>>(), hi = j.at("joint_max").get<std::vector<double>>();
@@ -172,22 +171,35 @@ bool PredictionCovariance::OutsideSupport(double sd, const Eigen::VectorXd& q) c
   return sd > SupportThreshold() || BeyondJointRange(q);
 }
 
-double EstimateInadequacy(const InadequacySample& sample, bool beyond) {
+double PredictionCovariance::Inadequacy(const Eigen::VectorXd& q) const {
+  double tau = inadequacy;
+  if (joint_min.size() == 0 || q.size() != joint_min.size()) return tau;
+  for (Eigen::Index j = 0; j < q.size() && j < static_cast<Eigen::Index>(inadequacy_beyond.size()); ++j) {
+    if (q[j] - joint_max[j] > kJointMargin || joint_min[j] - q[j] > kJointMargin)
+      tau = std::max(tau, inadequacy_beyond[j]);
+  }
+  return tau;
+}
+
+double EstimateInadequacy(const InadequacySample& sample, int joint) {
+  std::vector<size_t> rows;
+  for (size_t i = 0; i < sample.squared_error.size(); ++i) {
+    const auto& b = sample.beyond[i];
+    const bool member = joint < 0 ? b.empty() : std::find(b.begin(), b.end(), joint) != b.end();
+    if (member && std::isfinite(sample.expected[i]) && std::isfinite(sample.squared_error[i])) rows.push_back(i);
+  }
   double tau2 = 0.0;
   for (int pass = 0; pass < 200; ++pass) {  // (3)'s fixed point: the weights depend on tau^2
     double sum_w = 0.0, sum_wx = 0.0;
-    for (size_t i = 0; i < sample.squared_error.size(); ++i) {
-      if (sample.beyond[i] != beyond || !std::isfinite(sample.expected[i]) || !std::isfinite(sample.squared_error[i]))
-        continue;
+    for (size_t i : rows) {
       const double v = sample.expected[i] + tau2;
       if (!(v > 0.0)) continue;
-      const double w = 1.0 / (v * v);
-      sum_w += w;
-      sum_wx += w * (sample.squared_error[i] - sample.expected[i]);
+      sum_w += 1.0 / (v * v);
+      sum_wx += (sample.squared_error[i] - sample.expected[i]) / (v * v);
     }
     if (!(sum_w > 0.0)) return 0.0;
     const double next = std::max(0.0, sum_wx / sum_w);
-    const bool settled = std::abs(next - tau2) <= 1e-9 * std::max(next, 1e-18);
+    const bool settled = std::abs(next - tau2) <= 1e-9 * next;
     tau2 = next;
     if (settled) break;
   }

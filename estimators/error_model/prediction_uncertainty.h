@@ -72,7 +72,8 @@ struct PredictionCovariance {
   double sigma = NAN;              // m, noise per residual
   double median_train_sd = NAN;    // m, median of (1) over the training rows
   double inadequacy = 0.0;         // m, tau of (2) within the training joint range; 0 in a report without it
-  double inadequacy_beyond = 0.0;  // m, tau of (2) for a row with a joint beyond it; = inadequacy when absent
+  // m, per joint j: tau of (2) for a row with joint j beyond the training range; empty in a report without it.
+  std::vector<double> inadequacy_beyond;
   std::string inadequacy_source = "none";  // "cross-validation of the selection", "cross-validation", "none"
   // The training rows' joint readings, per joint: smallest and largest (rad; m for prismatic joints).
   // Empty in a report that does not record them (then only the sd rule applies).
@@ -82,7 +83,8 @@ struct PredictionCovariance {
   // Outside the support: sd above SupportThreshold(), or a joint reading q beyond the training range.
   bool OutsideSupport(double sd, const Eigen::VectorXd& q) const;
   bool BeyondJointRange(const Eigen::VectorXd& q) const;
-  double Inadequacy(const Eigen::VectorXd& q) const { return BeyondJointRange(q) ? inadequacy_beyond : inadequacy; }
+  // tau at a row: the largest of `inadequacy` and inadequacy_beyond of the joints q lies beyond the range on.
+  double Inadequacy(const Eigen::VectorXd& q) const;
   // (2) at a row with joint readings q from its parameters' part sd (1).
   double PredictedSd(double sd, const Eigen::VectorXd& q) const {
     const double tau = Inadequacy(q);
@@ -108,10 +110,10 @@ std::vector<double> PredictionSd(const Robot& model, const Robot& controller, co
 // whether a joint reading lay beyond the fold's training range.
 struct InadequacySample {
   std::vector<double> squared_error, expected;
-  std::vector<bool> beyond;
+  std::vector<std::vector<int>> beyond;  // per row, the joints beyond the fold's training range
 };
-// tau (m) of (3) over the rows whose `beyond` equals the argument; 0 without such rows.
-double EstimateInadequacy(const InadequacySample& sample, bool beyond);
+// tau (m) of (3) over the rows with joint `joint` beyond the range (-1: the rows beyond on none); 0 without rows.
+double EstimateInadequacy(const InadequacySample& sample, int joint);
 
 // Summary of a held-out set: rows outside the support, and the fraction of 3-D errors within
 // 3 sqrt(sd_pred^2 + sigma_3d^2) (the calibration check of (2)). sigma_3d = sqrt(3) sigma: the noise of a 3-D

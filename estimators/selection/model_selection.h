@@ -80,8 +80,9 @@ struct CandidateScore {
   double cv_rms = 0.0;           // m: mean of fold_rms
   double se = 0.0;               // m: standard deviation of fold_rms / sqrt(K)
   // m: tau of prediction_uncertainty.h (3) from the same held-out rows: rows within the fold's training
-  // joint range, and rows beyond it (at least the former).
-  double inadequacy = 0.0, inadequacy_beyond = 0.0;
+  // joint range, and per joint j, rows with joint j beyond it.
+  double inadequacy = 0.0;
+  std::vector<double> inadequacy_beyond;
   bool chosen = false;
 };
 // Index of the simplest candidate within one se of the best; candidates in order of complexity.

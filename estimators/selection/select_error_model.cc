@@ -19,11 +19,11 @@ struct TestSums {
   Eigen::VectorXd b;
   double c = 0.0;
   int rows = 0;
-  // Per row, for prediction_uncertainty.h (3): position Jacobian, residual, and whether a joint reading lies
+  // Per row, for prediction_uncertainty.h (3): position Jacobian, residual, and the joints whose reading lies
   // beyond the fold's training range (PredictionCovariance::kJointMargin).
   std::vector<Eigen::MatrixXd> J;
   std::vector<Eigen::Vector3d> r;
-  std::vector<bool> beyond;
+  std::vector<std::vector<int>> beyond;
   // RMS of the held-out positions after the step dx (linearised).
   double Rms(const Eigen::VectorXd& dx) const {
     const double ms = (c + 2.0 * dx.dot(b) + dx.dot(A * dx)) / std::max(1, rows);
@@ -72,8 +72,11 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
     else if (q.size() == q_min.size()) q_min = q_min.cwiseMin(q), q_max = q_max.cwiseMax(q);
   }
   const auto beyond = [&](const Eigen::VectorXd& q) {
+    std::vector<int> joints;
     const double m = PredictionCovariance::kJointMargin;
-    return q.size() == q_min.size() && (((q - q_max).array() > m).any() || ((q_min - q).array() > m).any());
+    for (Eigen::Index j = 0; j < q.size() && q.size() == q_min.size(); ++j)
+      if (q[j] - q_max[j] > m || q_min[j] - q[j] > m) joints.push_back(static_cast<int>(j));
+    return joints;
   };
   for (int i = 0; i < problem.num_rows(); ++i) {
     const bool test = fold[i] == k;
@@ -230,8 +233,8 @@ std::vector<CandidateScore> CrossValidate(const std::string& estimator, const Er
     for (double r : s.fold_rms) var += (r - mean) * (r - mean) / (K - 1);
     s.cv_rms = mean;
     s.se = std::sqrt(var / K);
-    s.inadequacy = EstimateInadequacy(samples[c], false);
-    s.inadequacy_beyond = std::max(s.inadequacy, EstimateInadequacy(samples[c], true));
+    s.inadequacy = EstimateInadequacy(samples[c], -1);
+    for (int j = 0; j < start.dof(); ++j) s.inadequacy_beyond.push_back(EstimateInadequacy(samples[c], j));
   }
   return scores;
 }
@@ -241,7 +244,7 @@ void SetInadequacy(const CandidateScore& score, const std::string& source, Estim
   if (!report->details.contains("prediction_covariance")) return;
   nlohmann::json& c = report->details["prediction_covariance"];
   c["inadequacy_m"] = score.inadequacy;
-  c["inadequacy_beyond_m"] = score.inadequacy_beyond;
+  c["inadequacy_beyond_m"] = score.inadequacy_beyond;  // per joint
   c["inadequacy_source"] = source;
 }
 

@@ -58,10 +58,13 @@ Scored FitAndScore(const Robot& start, const Dataset& train, const Dataset& test
   s.coverage_supported = check.coverage_supported;
   s.tau = cov.inadequacy;
   PredictionCovariance parameters_only = cov;  // the bound before (2): the parameters' part alone
-  parameters_only.inadequacy = parameters_only.inadequacy_beyond = 0.0;
+  parameters_only.inadequacy = 0.0;
+  parameters_only.inadequacy_beyond.clear();
   s.coverage_param = CheckUncertainty(e.position, sd, parameters_only, test).coverage;
-  std::printf("  tau %.4f mm, beyond the joint range %.4f mm (%s); coverage %.4f (supported %.4f), parameters' "
-              "part only %.4f\n", s.tau * 1e3, cov.inadequacy_beyond * 1e3, cov.inadequacy_source.c_str(), s.coverage,
+  std::string beyond;
+  for (double t : cov.inadequacy_beyond) beyond += " " + std::to_string(t * 1e3).substr(0, 6);
+  std::printf("  tau %.4f mm, beyond the range of joint 1..n:%s mm (%s); coverage %.4f (supported %.4f), parameters' "
+              "part only %.4f\n", s.tau * 1e3, beyond.c_str(), cov.inadequacy_source.c_str(), s.coverage,
               s.coverage_supported, s.coverage_param);
   if (select) s.chosen = ChosenCandidate(report.details.at("selection"));
   return s;
