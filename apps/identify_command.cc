@@ -102,6 +102,7 @@ nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dat
         "inside the support)\n",
         check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
         100.0 * check.coverage_1d, 100.0 * check.coverage_supported);
+    std::printf("%s\n", InadequacySummary(cov).c_str());
     json["uncertainty"] = check.ToJson();
   }
   if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad

@@ -91,7 +91,7 @@ void AddPredictCommand(CLI::App& app) {
       if (split) out << ",split";
       if (session) out << ",session";
       out << ",dx_mm,dy_mm,dz_mm,error_mm";
-      if (!sd.empty()) out << ",sd_mm,outside_support";
+      if (!sd.empty()) out << ",sd_param_mm,sd_mm,outside_support";
       out << "\n";
       for (size_t i = 0; i < data.rows.size(); ++i) {
         const Measurement& m = data.rows[i];
@@ -104,7 +104,12 @@ void AddPredictCommand(CLI::App& app) {
         if (session) out << "," << m.session;
         out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
             << FormatInUnit(d.norm(), mm);
-        if (!sd.empty()) out << "," << FormatInUnit(sd[i], mm) << "," << (cov.OutsideSupport(sd[i], m.q) ? 1 : 0);
+        // sd_mm: (2) of prediction_uncertainty.h, the parameters' part and the model's inadequacy; the flag
+        // is on the parameters' part.
+        if (!sd.empty()) {
+          out << "," << FormatInUnit(sd[i], mm) << "," << FormatInUnit(cov.PredictedSd(sd[i], m.q), mm) << ","
+              << (cov.OutsideSupport(sd[i], m.q) ? 1 : 0);
+        }
         out << "\n";
       }
     });
@@ -117,6 +122,7 @@ void AddPredictCommand(CLI::App& app) {
           "%d rows outside what the training poses support (sd_mm > %.4g, 3 x the training rows' median, or a "
           "joint more than %.3g beyond the training rows' range)\n",
           outside, cov.SupportThreshold() * 1e3, PredictionCovariance::kJointMargin);
+      std::printf("%s\n", InadequacySummary(cov).c_str());
     }
   });
 }

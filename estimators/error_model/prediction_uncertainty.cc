@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <stdexcept>
 
@@ -179,6 +180,25 @@ double PredictionCovariance::Inadequacy(const Eigen::VectorXd& q) const {
       tau = std::max(tau, inadequacy_beyond[j]);
   }
   return tau;
+}
+
+std::string InadequacySummary(const PredictionCovariance& c) {
+  if (c.inadequacy_source == "none") {
+    return "model inadequacy not measured (no select or cross_validate): sd_mm is the parameters' part only";
+  }
+  char line[120];
+  std::snprintf(line, sizeof line, "model inadequacy tau (%s): %.4f mm within the training range",
+                c.inadequacy_source.c_str(), c.inadequacy * 1e3);
+  std::string out = line;
+  if (!c.inadequacy_beyond.empty()) {
+    out += "; beyond it, joint 1..n:";
+    for (double t : c.inadequacy_beyond) {
+      std::snprintf(line, sizeof line, " %.4f", t * 1e3);
+      out += line;
+    }
+    out += " mm";
+  }
+  return out + " (sd_mm^2 = sd_param^2 + tau^2)";
 }
 
 double EstimateInadequacy(const InadequacySample& sample, int joint) {

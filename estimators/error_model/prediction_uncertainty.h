@@ -15,34 +15,36 @@
 // The reported sd adds a model-inadequacy variance tau^2, measured out of sample:
 //   sd_pred(row)^2 = sd(row)^2 + tau(row)^2                                                        (2)
 // tau^2 is what the blocked K-fold cross-validation of the training rows (model_selection.h, the same
-// folds) sees beyond what the bound already explains. In fold k the model is fitted on the other blocks,
-// with noise estimate sigma_k and covariance C_k; if the bound were right, a held-out row i's 3-D error e_i
-// would have E|e_i|^2 = E_i = 3 sigma_k^2 + sd_k(i)^2 ((1) with C_k). tau^2 is the variance that is
-// missing, x_i = |e_i|^2 - E_i, averaged with inverse-variance weights (|e|^2 of a Gaussian 3-D error
-// has a variance proportional to its mean squared, (E_i + tau^2)^2), to a fixed point:
+// folds and the same held-out predictions as the selection's CV RMS) sees beyond what the bound already
+// explains. In fold k the candidate is fitted on the other blocks (the selection's one Gauss-Newton step),
+// with noise estimate sigma_k and covariance C_k = sigma_k^2 A_k^+ of that step (the training rows' normal
+// equations, the pseudo-inverse of (1)); if the bound were right, a held-out row i's 3-D error e_i would
+// have E|e_i|^2 = E_i = 3 sigma_k^2 + sd_k(i)^2 ((1) with C_k). tau^2 is the variance that is missing,
+// x_i = |e_i|^2 - E_i, averaged with inverse-variance weights (|e|^2 of a Gaussian 3-D error has a variance
+// proportional to the square of its mean, (E_i + tau^2)^2), to a fixed point from tau^2 = 0:
 //   tau^2 = max(0, sum_i w_i x_i / sum_i w_i),  w_i = 1 / (E_i + tau^2)^2                           (3)
-// (the moment estimator of a random-effects variance, Paule and Mandel 1982). Why this quantity: the
-// bound 3 sqrt(sd_pred^2 + sigma_3d^2) is applied with the fit's own sigma and covariance to rows the fit
-// did not see; (3) is the shortfall of exactly that bound's variance on rows the fold's fit did not see, in
-// the fold's own sigma and covariance, so that what sigma absorbs in sample is not counted twice and the
-// parameters' part, larger in a fold (fewer rows), is not taken for inadequacy. The weights matter: a
-// block that holds out a whole joint's sweep leaves that joint's parameters to their priors, its rows'
-// sd_k reaches tens of mm, and an unweighted mean of x_i would be swamped by the noise of those rows.
-// C_k is computed with the same pseudo-inverse and priors (weighed by sigma_k) as C; each fold's fit is the
-// one the selection scores (model_selection.h: one Gauss-Newton step from the fold's geometry fit), so e
-// and sd_k come from the sums the selection accumulates anyway: tau costs no extra fit.
-// tau depends on the row in one way the folds measure: rows with a joint reading beyond the fold's
-// training range (the joint-range rule below) get their own estimate, tau_beyond (at least tau). On
-// fanuc_boby2021 the fold that holds out the joint-2 sweep's middle and end predicts its 34 deg stop
-// 1.3 mm off with sd_k 0.18 mm, while the rows within range match their bound: what the model lacks
-// (compliance) grows where the training poses do not reach, and a single tau pooled over both kinds would
-// be too wide inside and too narrow outside. Finer laws (tau growing with the distance, per joint) would
-// rest on the few rows each fold holds beyond its range; two numbers are what the folds support.
+// Why this quantity: the bound 3 sqrt(sd_pred^2 + sigma_3d^2) is applied, with the fit's own sigma and
+// covariance, to rows the fit did not see; (3) is the shortfall of exactly that bound's variance on rows
+// the fold's fit did not see, in the fold's own sigma and covariance, so that what sigma absorbs in sample
+// (the part of the model's inadequacy the training rows show) is not counted twice, and the parameters'
+// part, larger in a fold (fewer rows), is not taken for inadequacy. The weights matter: a block that holds
+// out a whole joint's sweep leaves directions the other rows barely determine, its rows' sd_k reaches
+// tens of mm, and a plain mean of x_i would be swamped by the noise of those rows.
+// tau depends on the row in the one way the folds measure: the rows beyond the fold's training range on
+// joint j (the joint-range rule below, kJointMargin) give tau_j, the rows within range on every joint give
+// tau; a row gets the largest of tau and the tau_j of the joints it lies beyond the training range on.
+// The CV data call for it: on fanuc_boby2021 the fold that holds out the joint-2 sweep's middle and end
+// predicts its 34 deg stop 1.3 mm off (geometry; sd_k 0.18 mm), while the rows within range match their
+// bound; pooled, the many precise rows within range (and beyond the range of other joints) outweigh the
+// few beyond joint 2's, and the 16 deg extrapolation of the final fit would keep its 1.9 mm miss. What the model lacks (compliance)
+// grows where the training poses do not reach, and on the joint that leaves its range. Finer laws (tau
+// growing with the distance) would rest on the few rows each fold holds beyond its range; per joint and
+// within/beyond is what they support. Neither the support flags nor the fitted parameters change.
 // Without cross-validation (no `select`) tau is 0 and the report says so (inadequacy_source "none": the sd
 // is the parameters' part only), unless the options ask `cross_validate: true`: the same folds, each
-// fitting the model itself (not geometry plus a step), (3) for that model alone. It costs K more fits,
-// which a plain fit should not pay unasked (studies run thousands); a user who wants an honest bound asks
-// for it, and identify's summary says which of the two the sd is.
+// fitting the model itself with the estimator's options (no step), (3) for that model alone. It costs K
+// more fits, which a plain fit should not pay unasked (studies run thousands of them); a user who wants the
+// bound to hold on poses the model does not represent asks for it, and identify says which sd it printed.
 //
 // The covariance travels in the identify report (details.prediction_covariance of the stage, written by
 // every error-model estimator): parameter names, C in SI units of x (m, rad, the ratio scale, joint
@@ -95,6 +97,10 @@ struct PredictionCovariance {
   // Throws std::invalid_argument when a key is missing or the matrix does not match the names.
   static PredictionCovariance FromJson(const nlohmann::json& j);
 };
+
+// One line for a terminal: tau within the training range and per joint beyond it, and where it comes from
+// (or that the sd is the parameters' part only).
+std::string InadequacySummary(const PredictionCovariance& covariance);
 
 // The covariance of a fit at its solution x, with the median training-row sd (one more pass).
 PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep, const Eigen::VectorXd& x,

@@ -172,9 +172,18 @@ TEST_P(Ur10Select, HeldOutErrorOfTheSelectedModel) {
   const PredictionErrors errors = EvaluatePredictions(nominal, identified, test);
   const ErrorStats& e = errors.position_stats;
   const PredictionCovariance cov = PredictionCovariance::FromJson(report.details.at("prediction_covariance"));
-  const double coverage = CheckUncertainty(errors.position, PredictionSd(identified, nominal, test, cov), cov, test).coverage;
-  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm, coverage %.4f\n", c.series.c_str(),
-              chosen.c_str(), e.rms * 1e3, e.max * 1e3, coverage);
+  const std::vector<double> sd = PredictionSd(identified, nominal, test, cov);
+  const UncertaintyCheck check = CheckUncertainty(errors.position, sd, cov, test);
+  const double coverage = check.coverage;
+  PredictionCovariance parameters = cov;  // the bound of (1) alone, without the model-inadequacy tau
+  parameters.inadequacy = 0.0;
+  parameters.inadequacy_beyond.clear();
+  std::string beyond;
+  for (double t : cov.inadequacy_beyond) beyond += " " + std::to_string(t * 1e3).substr(0, 6);
+  std::printf("series %s, selected %s: held-out RMS %.4f mm, max %.4f mm, coverage %.4f (supported %.4f; "
+              "parameters' part alone %.4f); tau %.4f mm, beyond joint 1..6:%s mm\n",
+              c.series.c_str(), chosen.c_str(), e.rms * 1e3, e.max * 1e3, coverage, check.coverage_supported,
+              CheckUncertainty(errors.position, sd, parameters, test).coverage, cov.inadequacy * 1e3, beyond.c_str());
   EXPECT_EQ(chosen, c.chosen);
   EXPECT_NEAR(coverage, c.coverage, 0.002);
   EXPECT_GE(coverage, 0.95);
