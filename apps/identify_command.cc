@@ -1,7 +1,9 @@
 // kincal identify --nominal N.yaml --data DATA.csv --method A[,B...] [--options O.yaml] --out I.yaml
-//                 [--report R.json] [--validate HELDOUT.csv] [--select]
+//                 [--report R.json] [--validate HELDOUT.csv] [--select [--audit]]
 // --select: the last method (an error-model estimator) selects among the robot file's nested joint-error
 // models by cross-validation (`select: true`, estimators/selection/model_selection.h).
+// --audit (with --select and held-out rows): every nested candidate is also fitted on all training rows
+// and scored on the held-out ones, beside the chosen one (estimators/selection/selection_audit.h).
 // Methods run in order, each refining the robot of the one before (a pipeline). With a `split` column,
 // the train rows identify and the test rows validate.
 #include <iostream>
@@ -15,6 +17,7 @@
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/estimator.h"
 #include "estimators/selection/model_selection.h"
+#include "estimators/selection/selection_audit.h"
 #include "robot/prediction.h"
 #include "robot/robot_file.h"
 
@@ -114,6 +117,23 @@ nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dat
   return json;
 }
 
+// --audit: every nested candidate of the last stage's start robot fitted on the training rows as the
+// selection fits its choice and scored on the held-out rows, into `last`'s details.selection.
+void AuditSelection(const std::vector<std::string>& methods, const std::vector<YAML::Node>& options,
+                    const Robot& nominal, const Dataset& train, const Dataset& heldout, EstimationReport* last) {
+  if (!last->details.contains("selection")) {
+    ThrowInputError("identify: --audit: " + methods.back() + " reported no model selection to audit");
+  }
+  // The last stage started from the robot of the stages before it (deterministic: the same again).
+  Robot start = nominal;
+  if (methods.size() > 1) {
+    const std::vector<std::string> before(methods.begin(), methods.end() - 1);
+    RunPipeline(before, options, nominal, train, &start);
+  }
+  const auto estimator = Estimators().Create(methods.back(), AuditFitOptions(options.back()));
+  AddAuditToSelection(AuditCandidates(*estimator, start, nominal, train, heldout), &last->details["selection"]);
+}
+
 }  // namespace
 
 void AddIdentifyCommand(CLI::App& app) {
@@ -121,6 +141,7 @@ void AddIdentifyCommand(CLI::App& app) {
   struct Args {
     std::string nominal, data, method, options, out, report, validate;
     bool select = false;
+    bool audit = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "nominal robot file (the controller's model)")->required();
@@ -133,7 +154,11 @@ void AddIdentifyCommand(CLI::App& app) {
   cmd->add_option("--validate", a->validate, "held-out dataset to score the identified robot on");
   cmd->add_flag("--select", a->select,
                 "select the joint-error model by blocked cross-validation (the last method's option select: true)");
+  cmd->add_flag("--audit", a->audit,
+                "with --select and held-out rows: fit every nested candidate on the training rows and score each "
+                "on the held-out rows");
   cmd->callback([a]() {
+    if (a->audit && !a->select) ThrowInputError("identify: --audit needs --select (it audits the selection)");
     const Robot nominal = ReadRobotFile(a->nominal);
     const Dataset all = ReadDataset(a->data);
     all.Validate(nominal.dof());
@@ -163,10 +188,17 @@ void AddIdentifyCommand(CLI::App& app) {
       heldout = all.Subset(Split::kTest);
       have_heldout = !heldout.rows.empty();
     }
+    if (a->audit && !have_heldout) {
+      ThrowInputError("identify: --audit needs held-out rows (--validate HELDOUT.csv, or test rows in a split column of " +
+                      a->data + ")");
+    }
 
     Robot identified;
-    const std::vector<EstimationReport> reports =
+    std::vector<EstimationReport> reports =
         NamingFile(a->data, [&] { return RunPipeline(methods, options, nominal, train, &identified); });
+    if (a->audit) {
+      NamingFile(a->data, [&] { AuditSelection(methods, options, nominal, train, heldout, &reports.back()); });
+    }
     nlohmann::json json;
     json["stages"] = nlohmann::json::array();
     for (const auto& r : reports) {

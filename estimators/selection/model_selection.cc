@@ -103,18 +103,28 @@ nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int fo
 
 std::string SelectionTable(const nlohmann::json& selection) {
   std::ostringstream out;
-  char line[200];
+  char line[300];
   std::snprintf(line, sizeof line, "  model selection, %d-fold blocked CV, one-standard-error rule:\n",
                 selection.value("folds", 0));
   out << line;
-  std::snprintf(line, sizeof line, "  %-22s %10s %22s  %s\n", "candidate", "parameters", "CV RMS +- se (mm)", "chosen");
+  // The audit's columns (selection_audit.h), when the table has them.
+  const bool audit = selection.contains("audit");
+  const auto mm = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  std::snprintf(line, sizeof line, "  %-22s %10s %22s%s  %s\n", "candidate", "parameters", "CV RMS +- se (mm)",
+                audit ? "  held-out RMS   max (mm)" : "", "chosen");
   out << line;
   for (const auto& c : selection.at("candidates")) {
-    std::snprintf(line, sizeof line, "  %-22s %10d %12.4f +- %6.4f  %s\n", c.at("candidate").get<std::string>().c_str(),
-                  c.at("parameters").get<int>(), c.at("cv_rms_mm").get<double>(), c.at("se_mm").get<double>(),
+    char held_out[64] = "";
+    if (audit) {
+      std::snprintf(held_out, sizeof held_out, "  %12.4f %10.4f", mm(c.at("held_out_rms_mm")),
+                    mm(c.at("held_out_max_mm")));
+    }
+    std::snprintf(line, sizeof line, "  %-22s %10d %12.4f +- %6.4f%s  %s\n", c.at("candidate").get<std::string>().c_str(),
+                  c.at("parameters").get<int>(), c.at("cv_rms_mm").get<double>(), c.at("se_mm").get<double>(), held_out,
                   c.at("chosen").get<bool>() ? "*" : "");
     out << line;
   }
+  if (audit) out << "  " << selection["audit"].value("summary", std::string()) << "\n";
   return out.str();
 }
 

@@ -89,7 +89,8 @@ struct CandidateScore {
 int OneStandardErrorChoice(const std::vector<CandidateScore>& scores);
 
 // The table as JSON (details.selection of the report: folds, rule, candidates with cv_rms_mm, se_mm,
-// fold_rms_mm, parameters, chosen) and as text for a terminal (one line per candidate).
+// fold_rms_mm, parameters, chosen) and as text for a terminal (one line per candidate; with the audit's
+// held-out columns and summary line when the table has them, selection_audit.h).
 nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int folds);
 std::string SelectionTable(const nlohmann::json& selection);
 // The chosen candidate's name in that table; "" when none is chosen.
