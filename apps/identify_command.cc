@@ -105,7 +105,6 @@ nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dat
         "inside the support)\n",
         check.outside_support, check.rows, cov.SupportThreshold() * mm, 100.0 * check.coverage,
         100.0 * check.coverage_1d, 100.0 * check.coverage_supported);
-    std::printf("%s\n", InadequacySummary(cov).c_str());
     json["uncertainty"] = check.ToJson();
   }
   if (after.orientation_stats.count > 0) {  // rows with a measured orientation: its error too, in mrad
@@ -205,6 +204,10 @@ void AddIdentifyCommand(CLI::App& app) {
       std::cout << r.BriefReport() << "\n";
       for (const auto& w : r.warnings) std::cout << "  warning: " << w << "\n";
       if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
+      if (r.details.contains("prediction_covariance")) {  // the model-inadequacy part of the predicted sd
+        std::cout << "  "
+                  << InadequacySummary(PredictionCovariance::FromJson(r.details["prediction_covariance"])) << "\n";
+      }
       json["stages"].push_back(r.ToJson());
     }
     if (have_heldout) json["validation"] = Validate(nominal, identified, train, heldout, reports.back());
