@@ -91,10 +91,12 @@ nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int fo
     std::vector<double> f;
     for (double r : s.fold_rms) f.push_back(r * 1e3);
     c["fold_rms_mm"] = f;
-    c["inadequacy_mm"] = s.inadequacy * 1e3;
-    std::vector<double> beyond;
-    for (double t : s.inadequacy_beyond) beyond.push_back(t * 1e3);
-    c["inadequacy_beyond_mm"] = beyond;
+    if (s.chosen) {  // prediction_uncertainty.h (3): measured for the chosen candidate only
+      c["inadequacy_mm"] = s.inadequacy * 1e3;
+      std::vector<double> beyond;
+      for (double t : s.inadequacy_beyond) beyond.push_back(t * 1e3);
+      c["inadequacy_beyond_mm"] = beyond;
+    }
     c["chosen"] = s.chosen;
     j["candidates"].push_back(c);
   }

@@ -79,8 +79,9 @@ struct CandidateScore {
   std::vector<double> fold_rms;  // m, one per fold
   double cv_rms = 0.0;           // m: mean of fold_rms
   double se = 0.0;               // m: standard deviation of fold_rms / sqrt(K)
-  // m: tau of prediction_uncertainty.h (3) from the same held-out rows: rows within the fold's training
-  // joint range, and per joint j, rows with joint j beyond it.
+  // m, the chosen candidate's only (0 and empty for the others): tau of prediction_uncertainty.h (3) from
+  // the same held-out rows: rows within the fold's training joint range, and per joint j, rows with joint j
+  // beyond it.
   double inadequacy = 0.0;
   std::vector<double> inadequacy_beyond;
   bool chosen = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -178,17 +179,25 @@ std::vector<int> ColumnTerms(const ErrorModelProblem& problem) {
 // Blocked K-fold CV of `candidates` (column sets of `start`'s problem): per fold, `fold_start` fitted on the
 // other blocks, then each candidate one Gauss-Newton step from there (model_selection.h; `step` false: the
 // fold's fit itself, for the fitted model alone), its held-out RMS and its rows of prediction_uncertainty.h
-// (3). Scores with fold_rms, cv_rms, se, inadequacy and inadequacy_beyond.
-std::vector<CandidateScore> CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions& fit_options,
-                                          int budget, const ErrorModelMinimizer& minimize, const Robot& fold_start,
-                                          const Robot& start, const Robot& controller, const Dataset& data,
-                                          const std::vector<SelectionCandidate>& candidates, bool step) {
+// (3) for the candidate `choose` picks from the scores (only that one: (3) needs every held-out row's sd
+// under the candidate's covariance, 3 q^2 per row, which for all 23 candidates of ur10_ipa2021 series A
+// took longer than the selection itself). Scores with fold_rms, cv_rms, se; the chosen one with inadequacy
+// and inadequacy_beyond; returns the chosen index.
+using Choice = std::function<int(const std::vector<CandidateScore>&)>;
+int CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions& fit_options, int budget,
+                  const ErrorModelMinimizer& minimize, const Robot& fold_start, const Robot& start,
+                  const Robot& controller, const Dataset& data, const std::vector<SelectionCandidate>& candidates,
+                  bool step, const Choice& choose, std::vector<CandidateScore>* out) {
+  std::vector<CandidateScore>& scores = *out;
   const int K = fit_options.selection.folds;
   const std::vector<int> fold = BlockedFolds(data, K);
   const RowWeighting weighting = fit_options.weighting.Weighting(data.rows.size(), estimator);
-  std::vector<CandidateScore> scores(candidates.size());
-  std::vector<InadequacySample> samples(candidates.size());
+  scores.assign(candidates.size(), CandidateScore());
   for (size_t c = 0; c < candidates.size(); ++c) scores[c].name = candidates[c].name;
+  // Each fold's sums and, per candidate, its columns and step: kept for (3) of the chosen one.
+  std::vector<FoldSums> fold_sums;
+  std::vector<std::vector<std::vector<int>>> fold_columns;
+  std::vector<std::vector<Eigen::VectorXd>> fold_steps;
   for (int k = 0; k < K; ++k) {
     std::vector<int> train_rows;
     std::set<int> sessions;
@@ -210,7 +219,10 @@ std::vector<CandidateScore> CrossValidate(const std::string& estimator, const Er
     Robot point = fitted;  // the fold's fit with every term of `start` (at its start value where not fitted)
     if (fitted.joint_errors.terms.size() != start.joint_errors.terms.size()) point.joint_errors = start.joint_errors;
     const ErrorModelProblem problem(point, controller, data, fit_options.error_model);
-    const FoldSums sums = AccumulateFold(problem, weighting, fold, k, sessions);
+    fold_sums.push_back(AccumulateFold(problem, weighting, fold, k, sessions));
+    fold_columns.emplace_back();
+    fold_steps.emplace_back();
+    const FoldSums& sums = fold_sums.back();
     const std::vector<int> column_term = ColumnTerms(problem);
     for (size_t c = 0; c < candidates.size(); ++c) {
       std::vector<int> columns;
@@ -223,20 +235,24 @@ std::vector<CandidateScore> CrossValidate(const std::string& estimator, const Er
       for (const auto& [session, t] : sums.test) rms += t.Rms(dx) / sums.test.size();
       scores[c].fold_rms.push_back(rms);
       scores[c].num_parameters = static_cast<int>(columns.size());
-      FoldExcess(sums, columns, dx, &samples[c]);
+      fold_columns.back().push_back(std::move(columns));
+      fold_steps.back().push_back(dx);
     }
   }
-  for (size_t c = 0; c < scores.size(); ++c) {
-    CandidateScore& s = scores[c];
+  for (CandidateScore& s : scores) {
     double mean = 0.0, var = 0.0;
     for (double r : s.fold_rms) mean += r / K;
     for (double r : s.fold_rms) var += (r - mean) * (r - mean) / (K - 1);
     s.cv_rms = mean;
     s.se = std::sqrt(var / K);
-    s.inadequacy = EstimateInadequacy(samples[c], -1);
-    for (int j = 0; j < start.dof(); ++j) s.inadequacy_beyond.push_back(EstimateInadequacy(samples[c], j));
   }
-  return scores;
+  const int chosen = choose(scores);
+  InadequacySample sample;
+  for (int k = 0; k < K; ++k) FoldExcess(fold_sums[k], fold_columns[k][chosen], fold_steps[k][chosen], &sample);
+  scores[chosen].chosen = true;
+  scores[chosen].inadequacy = EstimateInadequacy(sample, -1);
+  for (int j = 0; j < start.dof(); ++j) scores[chosen].inadequacy_beyond.push_back(EstimateInadequacy(sample, j));
+  return chosen;
 }
 
 // Writes tau into the report's prediction_covariance (prediction_uncertainty.h (2)).
@@ -260,11 +276,9 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
   // Maximum a posteriori with the default priors unless the options say `prior` (model_selection.h).
   if (!fit_options.error_model.prior.given) fit_options.error_model.prior.enabled = true;
   const std::vector<SelectionCandidate> candidates = NestedCandidates(start);
-  std::vector<CandidateScore> scores = CrossValidate(estimator, fit_options, budget, minimize,
-                                                     CandidateRobot(start, candidates[0]), start, controller, data,
-                                                     candidates, true);
-  const int chosen = OneStandardErrorChoice(scores);
-  scores[chosen].chosen = true;
+  std::vector<CandidateScore> scores;
+  const int chosen = CrossValidate(estimator, fit_options, budget, minimize, CandidateRobot(start, candidates[0]),
+                                   start, controller, data, candidates, true, OneStandardErrorChoice, &scores);
 
   EstimateErrorModel(estimator, fit_options, budget, minimize, CandidateRobot(start, candidates[chosen]), controller,
                      data, identified, report);
@@ -282,9 +296,9 @@ void CrossValidateErrorModel(const std::string& estimator, const ErrorModelEstim
   SelectionCandidate whole;
   whole.name = "fitted model";
   for (size_t t = 0; t < start.joint_errors.terms.size(); ++t) whole.terms.push_back(static_cast<int>(t));
-  std::vector<CandidateScore> scores =
-      CrossValidate(estimator, fit_options, budget, minimize, start, start, controller, data, {whole}, false);
-  scores[0].chosen = true;
+  std::vector<CandidateScore> scores;
+  CrossValidate(estimator, fit_options, budget, minimize, start, start, controller, data, {whole}, false,
+                [](const std::vector<CandidateScore>&) { return 0; }, &scores);
   nlohmann::json cv = SelectionToJson(scores, options.selection.folds);
   cv["rule"] = "the fitted model alone (cross_validate: true)";
   report->details["cross_validation"] = cv;
