@@ -32,6 +32,9 @@
 // best (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the start robot
 // with that candidate's terms: the identified robot holds only the chosen terms. Deterministic: no randomness, folds
 // from the row order.
+// The same held-out predictions of the chosen candidate also give the model-inadequacy tau of its predicted
+// sd (estimators/error_model/prediction_uncertainty.h (2), (3)), in the report's prediction_covariance;
+// `cross_validate: true` without `select` runs these folds for the fitted model alone, for tau only.
 // Priors: the folds' geometry fits and the final fit are maximum a posteriori with the default priors
 // (error_model_problem.h, PriorOptions) unless the options give `prior` (on, a map, or `off` for least
 // squares); the candidates' one-step scores use the data's normal equations only. Least-squares fits
