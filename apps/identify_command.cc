@@ -204,6 +204,10 @@ void AddIdentifyCommand(CLI::App& app) {
       std::cout << r.BriefReport() << "\n";
       for (const auto& w : r.warnings) std::cout << "  warning: " << w << "\n";
       if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
+      if (r.details.contains("prediction_covariance")) {  // the model-inadequacy part of the predicted sd
+        std::cout << "  "
+                  << InadequacySummary(PredictionCovariance::FromJson(r.details["prediction_covariance"])) << "\n";
+      }
       json["stages"].push_back(r.ToJson());
     }
     if (have_heldout) json["validation"] = Validate(nominal, identified, train, heldout, reports.back());

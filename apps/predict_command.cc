@@ -1,8 +1,10 @@
 // kincal predict --robot ROBOT.yaml --data DATA.csv --out PRED.csv [--nominal NOMINAL.yaml] [--report R.json]
 // With --report (the JSON report of the `kincal identify` that wrote ROBOT.yaml), each row also gets its
-// predicted position standard deviation sd_mm = sqrt(trace(J C J^T)) and `outside_support` = 1 when sd_mm
-// exceeds 3 x the median over the training rows or a joint reading lies more than 0.05 rad beyond the
-// training rows' range (estimators/error_model/prediction_uncertainty.h).
+// predicted position standard deviation: sd_param_mm = sqrt(trace(J C J^T)), the parameters' part, and
+// sd_mm = sqrt(sd_param^2 + tau^2) with the report's model inadequacy tau (0 in a report without it), and
+// `outside_support` = 1 when sd_param_mm exceeds 3 x the median over the training rows or a joint reading
+// lies more than 0.05 rad beyond the training rows' range (estimators/error_model/prediction_uncertainty.h
+// (1), (2)).
 // Where the robot model puts each measured marker: one row per dataset row, in order, so users can look at
 // their own residuals. The joint level (coupling, drives, joint errors with each row's previous pose)
 // applies as everywhere (robot/joint_readings.h).
@@ -34,7 +36,8 @@ void AddPredictCommand(CLI::App& app) {
                   "(default: the robot itself; matters only for datasets without encoder counts)");
   cmd->add_option(
       "--report", a->report,
-      "identify's JSON report for ROBOT.yaml: adds sd_mm and outside_support from its parameter covariance");
+      "identify's JSON report for ROBOT.yaml: adds sd_param_mm, sd_mm (with the model inadequacy tau) and "
+      "outside_support from its parameter covariance");
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
     const Robot controller = a->nominal.empty() ? robot : ReadRobotFile(a->nominal);
@@ -91,7 +94,7 @@ void AddPredictCommand(CLI::App& app) {
       if (split) out << ",split";
       if (session) out << ",session";
       out << ",dx_mm,dy_mm,dz_mm,error_mm";
-      if (!sd.empty()) out << ",sd_mm,outside_support";
+      if (!sd.empty()) out << ",sd_param_mm,sd_mm,outside_support";
       out << "\n";
       for (size_t i = 0; i < data.rows.size(); ++i) {
         const Measurement& m = data.rows[i];
@@ -104,7 +107,12 @@ void AddPredictCommand(CLI::App& app) {
         if (session) out << "," << m.session;
         out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
             << FormatInUnit(d.norm(), mm);
-        if (!sd.empty()) out << "," << FormatInUnit(sd[i], mm) << "," << (cov.OutsideSupport(sd[i], m.q) ? 1 : 0);
+        // sd_mm: (2) of prediction_uncertainty.h, the parameters' part and the model's inadequacy; the flag
+        // is on the parameters' part.
+        if (!sd.empty()) {
+          out << "," << FormatInUnit(sd[i], mm) << "," << FormatInUnit(cov.PredictedSd(sd[i], m.q), mm) << ","
+              << (cov.OutsideSupport(sd[i], m.q) ? 1 : 0);
+        }
         out << "\n";
       }
     });
@@ -114,9 +122,10 @@ void AddPredictCommand(CLI::App& app) {
       int outside = 0;
       for (size_t i = 0; i < sd.size(); ++i) outside += cov.OutsideSupport(sd[i], data.rows[i].q) ? 1 : 0;
       std::printf(
-          "%d rows outside what the training poses support (sd_mm > %.4g, 3 x the training rows' median, or a "
+          "%d rows outside what the training poses support (sd_param_mm > %.4g, 3 x the training rows' median, or a "
           "joint more than %.3g beyond the training rows' range)\n",
           outside, cov.SupportThreshold() * 1e3, PredictionCovariance::kJointMargin);
+      std::printf("%s\n", InadequacySummary(cov).c_str());
     }
   });
 }

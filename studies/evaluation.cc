@@ -156,7 +156,8 @@ void AddPredictionSd(const std::vector<EstimationReport>& reports, const Robot& 
   const PredictionCovariance cov = PredictionCovariance::FromJson(reports.back().details.at("prediction_covariance"));
   const std::vector<double> sd = PredictionSd(identified, controller, test, cov);
   for (size_t i = 0; i < points->size() && i < sd.size(); ++i) {
-    (*points)[i].sd = sd[i];
+    (*points)[i].sd = cov.PredictedSd(sd[i], test.rows[i].q);
+    (*points)[i].tau = cov.Inadequacy(test.rows[i].q);
     (*points)[i].outside_support = cov.OutsideSupport(sd[i], test.rows[i].q);
   }
 }

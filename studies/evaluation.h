@@ -71,8 +71,10 @@ struct HeldoutPoint {
                                  // or without a previous pose
   double error = NAN;            // m: position error of the identified robot's prediction
   double sd = NAN;               // m: its predicted standard deviation (estimators/error_model/
-                                 // prediction_uncertainty.h), NaN when the last estimator gives no covariance
-  bool outside_support = false;  // sd above the documented multiple of the training rows' median
+                                 // prediction_uncertainty.h (2)), NaN when the last estimator gives no covariance
+  double tau = NAN;              // m: the model-inadequacy part of sd (0 when the fit did not cross-validate)
+  bool outside_support = false;  // the parameters' part of sd above the documented multiple of the training
+                                 // rows' median, or a joint beyond the training range
 };
 
 // One candidate of a model selection (`select: true`; estimators/selection/model_selection.h).

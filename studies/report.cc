@@ -371,26 +371,34 @@ void SelectionTables(std::ostream& o, const ReportData& data, int variant) {
 void UncertaintyTable(std::ostream& o, const ReportData& data, int variant) {
   const ResultTable& t = data.tables().heldout;
   const int c_sd = t.Column("sd_mm"), c_out = t.Column("outside_support"), c_est = t.Column("estimator");
+  const int c_tau = t.Column("tau_mm");  // absent in results written before it was
   if (c_sd < 0) return;
   std::map<std::string, std::vector<double>> sd;
+  std::map<std::string, double> tau;  // the largest over the rows
   std::map<std::string, int> outside;
   for (size_t r = 0; r < t.rows.size(); ++r) {
     if (data.VariantOf(t, r) != variant || !std::isfinite(t.Number(r, c_sd))) continue;
     sd[t.Text(r, c_est)].push_back(t.Number(r, c_sd));
     outside[t.Text(r, c_est)] += t.Text(r, c_out) == "1" ? 1 : 0;
+    const double row_tau = c_tau >= 0 ? t.Number(r, c_tau) : NAN;
+    if (std::isfinite(row_tau)) tau[t.Text(r, c_est)] = std::max(tau[t.Text(r, c_est)], row_tau);
   }
   if (sd.empty()) return;
   o << "### Prediction uncertainty of the held-out rows\n\n"
-       "sd: the predicted position standard deviation, sqrt(trace(J C J^T)); outside: rows whose sd exceeds 3 x "
-       "the median over the training rows (where not to trust the model).\n\n"
-       "| estimator | median sd (mm) | max sd (mm) | outside / rows |\n|---|---|---|---|\n";
+       "sd: the predicted position standard deviation, sqrt(trace(J C J^T) + tau^2); tau: the model's "
+       "inadequacy measured by cross-validation (`select` or `cross_validate`; 0 without: the sd is then the "
+       "parameters' part only); outside: rows whose parameters' sd exceeds 3 x the median over the training rows "
+       "or with a joint beyond the training range (where not to trust the model).\n\n"
+       "| estimator | median sd (mm) | max sd (mm) | max tau (mm) | outside / rows |\n|---|---|---|---|---|\n";
   for (const auto& e : data.Estimators()) {
     auto it = sd.find(e);
     if (it == sd.end()) continue;
     std::vector<double> v = it->second;
     std::sort(v.begin(), v.end());
+    const auto t_it = tau.find(e);
     o << "| " << Cell(e) << " | " << ReportNumber(v[v.size() / 2]) << " | " << ReportNumber(v.back()) << " | "
-      << outside[e] << " / " << v.size() << " |\n";
+      << (t_it == tau.end() ? std::string("-") : ReportNumber(t_it->second)) << " | " << outside[e] << " / "
+      << v.size() << " |\n";
   }
   o << "\n";
 }

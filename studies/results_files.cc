@@ -128,7 +128,7 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
                                        "orientation_error_median_deg", "orientation_error_max_deg", "active_targets"});
   t.heldout.header = {"item",      "dataset", "knob",           "knob_value", "trial",
                       "estimator", "row",     "marker",         "reach_mm",   "approach_speed_deg_s",
-                      "error_mm",  "sd_mm",   "outside_support"};
+                      "error_mm",  "sd_mm",   "outside_support", "tau_mm"};
   t.selection.header = {"item",      "dataset",    "knob",      "knob_value", "trial", "estimator",
                         "candidate", "parameters", "cv_rms_mm", "se_mm",      "chosen"};
   t.iso9283.header = Concat(kKey, {"pose", "cycles", "AP_P_mm", "AP_a_deg", "AP_b_deg", "AP_c_deg", "RP_l_mm",
@@ -166,7 +166,7 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
       t.heldout.rows.push_back(
           Concat(Key(study, variants, *r, nullptr),
                  {std::to_string(h.row), h.marker, Format(h.reach * mm), Format(h.approach_speed * deg),
-                  Format(h.error * mm), Format(h.sd * mm), h.outside_support ? "1" : "0"}));
+                  Format(h.error * mm), Format(h.sd * mm), h.outside_support ? "1" : "0", Format(h.tau * mm)}));
     }
     for (const SelectionRow& c : r->selection) {
       t.selection.rows.push_back(Concat(

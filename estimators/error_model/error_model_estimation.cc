@@ -114,6 +114,9 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // The weight of orientation against position in the residuals (m per rad), where rows measured one.
   if (data.HasOrientation()) d["orientation_length_m_per_rad"] = options.error_model.orientation_length;
   if (run.parameters_at_bounds >= 0) ReportParametersAtBounds(estimator, run.parameters_at_bounds, report);
+  if (options.selection.cross_validate) {
+    CrossValidateErrorModel(estimator, options, budget, minimize, start, controller, data, report);
+  }
 }
 
 void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report) {

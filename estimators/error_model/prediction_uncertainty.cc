@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <stdexcept>
 
@@ -78,6 +79,9 @@ nlohmann::json PredictionCovariance::ToJson() const {
   j["sigma_m"] = sigma;
   j["median_train_sd_m"] = median_train_sd;
   j["support_factor"] = kSupportFactor;
+  j["inadequacy_m"] = inadequacy;
+  if (!inadequacy_beyond.empty()) j["inadequacy_beyond_m"] = inadequacy_beyond;
+  j["inadequacy_source"] = inadequacy_source;
   if (joint_min.size() > 0) {
     j["joint_min"] = std::vector<double>(joint_min.data(), joint_min.data() + joint_min.size());
     j["joint_max"] = std::vector<double>(joint_max.data(), joint_max.data() + joint_max.size());
@@ -99,6 +103,17 @@ PredictionCovariance PredictionCovariance::FromJson(const nlohmann::json& j) {
     c.names = j.at("names").get<std::vector<std::string>>();
     c.sigma = j.at("sigma_m").is_number() ? j.at("sigma_m").get<double>() : NAN;
     c.median_train_sd = j.at("median_train_sd_m").is_number() ? j.at("median_train_sd_m").get<double>() : NAN;
+    if (j.contains("inadequacy_m")) {
+      c.inadequacy = j.at("inadequacy_m").get<double>();
+      if (!(c.inadequacy >= 0.0) || !std::isfinite(c.inadequacy))
+        throw std::invalid_argument("inadequacy_m must be finite and >= 0");
+      c.inadequacy_source = j.value("inadequacy_source", std::string("cross-validation"));
+    }
+    if (j.contains("inadequacy_beyond_m")) {
+      c.inadequacy_beyond = j.at("inadequacy_beyond_m").get<std::vector<double>>();
+      for (double t : c.inadequacy_beyond)
+        if (!(t >= 0.0) || !std::isfinite(t)) throw std::invalid_argument("inadequacy_beyond_m must be finite and >= 0");
+    }
     if (j.contains("joint_min") || j.contains("joint_max")) {
       const auto lo = j.at("joint_min").get<std::vector<double>>(), hi = j.at("joint_max").get<std::vector<double>>();
       if (lo.size() != hi.size()) throw std::invalid_argument("joint_min and joint_max differ in length");
@@ -148,10 +163,67 @@ PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep,
   return c;
 }
 
-bool PredictionCovariance::OutsideSupport(double sd, const Eigen::VectorXd& q) const {
-  if (sd > SupportThreshold()) return true;
+bool PredictionCovariance::BeyondJointRange(const Eigen::VectorXd& q) const {
   if (joint_min.size() == 0 || q.size() != joint_min.size()) return false;
   return ((q - joint_max).array() > kJointMargin).any() || ((joint_min - q).array() > kJointMargin).any();
+}
+
+bool PredictionCovariance::OutsideSupport(double sd, const Eigen::VectorXd& q) const {
+  return sd > SupportThreshold() || BeyondJointRange(q);
+}
+
+double PredictionCovariance::Inadequacy(const Eigen::VectorXd& q) const {
+  double tau = inadequacy;
+  if (joint_min.size() == 0 || q.size() != joint_min.size()) return tau;
+  for (Eigen::Index j = 0; j < q.size() && j < static_cast<Eigen::Index>(inadequacy_beyond.size()); ++j) {
+    if (q[j] - joint_max[j] > kJointMargin || joint_min[j] - q[j] > kJointMargin)
+      tau = std::max(tau, inadequacy_beyond[j]);
+  }
+  return tau;
+}
+
+std::string InadequacySummary(const PredictionCovariance& c) {
+  if (c.inadequacy_source == "none") {
+    return "model inadequacy not measured (no select or cross_validate): sd_mm is the parameters' part only";
+  }
+  char line[120];
+  std::snprintf(line, sizeof line, "model inadequacy tau (%s): %.4f mm within the training range",
+                c.inadequacy_source.c_str(), c.inadequacy * 1e3);
+  std::string out = line;
+  if (!c.inadequacy_beyond.empty()) {
+    out += "; beyond it, joint 1..n:";
+    for (double t : c.inadequacy_beyond) {
+      std::snprintf(line, sizeof line, " %.4f", t * 1e3);
+      out += line;
+    }
+    out += " mm";
+  }
+  return out + " (sd_mm^2 = sd_param^2 + tau^2)";
+}
+
+double EstimateInadequacy(const InadequacySample& sample, int joint) {
+  std::vector<size_t> rows;
+  for (size_t i = 0; i < sample.squared_error.size(); ++i) {
+    const auto& b = sample.beyond[i];
+    const bool member = joint < 0 ? b.empty() : std::find(b.begin(), b.end(), joint) != b.end();
+    if (member && std::isfinite(sample.expected[i]) && std::isfinite(sample.squared_error[i])) rows.push_back(i);
+  }
+  double tau2 = 0.0;
+  for (int pass = 0; pass < 200; ++pass) {  // (3)'s fixed point: the weights depend on tau^2
+    double sum_w = 0.0, sum_wx = 0.0;
+    for (size_t i : rows) {
+      const double v = sample.expected[i] + tau2;
+      if (!(v > 0.0)) continue;
+      sum_w += 1.0 / (v * v);
+      sum_wx += (sample.squared_error[i] - sample.expected[i]) / (v * v);
+    }
+    if (!(sum_w > 0.0)) return 0.0;
+    const double next = std::max(0.0, sum_wx / sum_w);
+    const bool settled = std::abs(next - tau2) <= 1e-9 * next;
+    tau2 = next;
+    if (settled) break;
+  }
+  return std::sqrt(tau2);
 }
 
 std::vector<double> PredictionSd(const Robot& model, const Robot& controller, const Dataset& data,
@@ -190,12 +262,14 @@ UncertaintyCheck CheckUncertainty(const std::vector<double>& errors, const std::
   int inside = 0, inside_1d = 0, inside_supported = 0;
   const double s2 = covariance.sigma * covariance.sigma;
   for (int i = 0; i < c.rows; ++i) {
-    const bool outside = covariance.OutsideSupport(sd[i], data.rows[i].q);
-    const bool within = errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + 3.0 * s2);
+    const bool outside = covariance.OutsideSupport(sd[i], data.rows[i].q);  // on the parameters' part
+    const double tau = covariance.Inadequacy(data.rows[i].q);
+    const double pred2 = sd[i] * sd[i] + tau * tau;  // (2)
+    const bool within = errors[i] <= 3.0 * std::sqrt(pred2 + 3.0 * s2);
     c.outside_support += outside;
     inside += within;
     inside_supported += within && !outside;
-    if (errors[i] <= 3.0 * std::sqrt(sd[i] * sd[i] + s2)) ++inside_1d;
+    if (errors[i] <= 3.0 * std::sqrt(pred2 + s2)) ++inside_1d;
   }
   if (c.rows > 0) c.coverage = static_cast<double>(inside) / c.rows;
   if (c.rows > 0) c.coverage_1d = static_cast<double>(inside_1d) / c.rows;

@@ -14,7 +14,10 @@ const OptionTable<ModelSelectionOptions>& ModelSelectionOptions::Table() {
       OptionTable<O>("model selection")
           .Add("select", &O::select,
                "choose the joint-error terms by blocked K-fold cross-validation (MAP fits unless prior is given)")
-          .Add("select_folds", &O::folds, "K, the folds of the cross-validation", AtLeast(2));
+          .Add("select_folds", &O::folds, "K, the folds of the cross-validation", AtLeast(2))
+          .Add("cross_validate", &O::cross_validate,
+               "without select: the blocked CV for the fitted model alone, for the model-inadequacy part of the "
+               "predicted sd (select always does it)");
   return table;
 }
 
@@ -88,6 +91,12 @@ nlohmann::json SelectionToJson(const std::vector<CandidateScore>& scores, int fo
     std::vector<double> f;
     for (double r : s.fold_rms) f.push_back(r * 1e3);
     c["fold_rms_mm"] = f;
+    if (s.chosen) {  // prediction_uncertainty.h (3): measured for the chosen candidate only
+      c["inadequacy_mm"] = s.inadequacy * 1e3;
+      std::vector<double> beyond;
+      for (double t : s.inadequacy_beyond) beyond.push_back(t * 1e3);
+      c["inadequacy_beyond_mm"] = beyond;
+    }
     c["chosen"] = s.chosen;
     j["candidates"].push_back(c);
   }

@@ -32,6 +32,9 @@
 // best (ESL 7.10's one-standard-error rule) is then fitted by the estimator on all training rows, from the start robot
 // with that candidate's terms: the identified robot holds only the chosen terms. Deterministic: no randomness, folds
 // from the row order.
+// The same held-out predictions of the chosen candidate also give the model-inadequacy tau of its predicted
+// sd (estimators/error_model/prediction_uncertainty.h (2), (3)), in the report's prediction_covariance;
+// `cross_validate: true` without `select` runs these folds for the fitted model alone, for tau only.
 // Priors: the folds' geometry fits and the final fit are maximum a posteriori with the default priors
 // (error_model_problem.h, PriorOptions) unless the options give `prior` (on, a map, or `off` for least
 // squares); the candidates' one-step scores use the data's normal equations only. Least-squares fits
@@ -52,6 +55,9 @@ namespace kincal {
 struct ModelSelectionOptions {
   bool select = false;  // key `select`
   int folds = 5;        // key `select_folds`: K, >= 2
+  // key `cross_validate`: without `select`, the same blocked CV for the fitted model alone, for the
+  // model-inadequacy tau of the predicted sd (prediction_uncertainty.h (3)); `select` always measures it.
+  bool cross_validate = false;
 
   // Keys select, select_folds.
   static const OptionTable<ModelSelectionOptions>& Table();
@@ -76,6 +82,11 @@ struct CandidateScore {
   std::vector<double> fold_rms;  // m, one per fold
   double cv_rms = 0.0;           // m: mean of fold_rms
   double se = 0.0;               // m: standard deviation of fold_rms / sqrt(K)
+  // m, the chosen candidate's only (0 and empty for the others): tau of prediction_uncertainty.h (3) from
+  // the same held-out rows: rows within the fold's training joint range, and per joint j, rows with joint j
+  // beyond it.
+  double inadequacy = 0.0;
+  std::vector<double> inadequacy_beyond;
   bool chosen = false;
 };
 // Index of the simplest candidate within one se of the best; candidates in order of complexity.

@@ -1,7 +1,12 @@
 // identify --select and predict --report on the command line: the selection table in the printed summary
 // and the report, the chosen model's terms alone in the identified robot (here none: the truth has no joint
-// errors), and every predicted row's sd_mm (positive, a few um for 150 poses with 20 um noise); a report
-// without a covariance: exit 2.
+// errors), and every predicted row's sd_mm (positive, a few um for 150 poses with 20 um noise): the
+// parameters' part sd_param_mm and the model inadequacy tau of the report (prediction_uncertainty.h (2));
+// a report from before tau (no inadequacy_m) reads as tau = 0; a report without a covariance: exit 2.
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
 #include <gtest/gtest.h>
 
 #include "framework/csv.h"
@@ -37,6 +42,15 @@ TEST(SelectionCli, SelectsPrintsTheTableAndPredictGivesSd) {
   const std::string report = testing::ReadText(dir.path("r.json"));
   EXPECT_NE(report.find("\"selection\""), std::string::npos);
   EXPECT_NE(report.find("\"prediction_covariance\""), std::string::npos);
+  EXPECT_NE(r.out.find("model inadequacy tau (cross-validation of the selection)"), std::string::npos) << r.out;
+  nlohmann::json json = nlohmann::json::parse(report);
+  nlohmann::json* covariance = nullptr;
+  for (auto& stage : json.at("stages"))
+    if (stage.at("details").contains("prediction_covariance")) covariance = &stage["details"]["prediction_covariance"];
+  ASSERT_NE(covariance, nullptr);
+  const double tau_mm = covariance->at("inadequacy_m").get<double>() * 1e3;
+  EXPECT_GE(tau_mm, 0.0);
+  EXPECT_LT(tau_mm, 0.05);  // the right model (the truth has no joint errors): tau about the noise or less
 
   r = RunKincal("predict --robot " + dir.path("id.yaml") + " --nominal " + nominal + " --data " + dir.path("data.csv") +
                 " --report " + dir.path("r.json") + " --out " + dir.path("p.csv"));
@@ -44,13 +58,29 @@ TEST(SelectionCli, SelectsPrintsTheTableAndPredictGivesSd) {
   const CsvTable t = ParseCsv(testing::ReadText(dir.path("p.csv")), "p.csv");
   ASSERT_EQ(t.rows.size(), 150u);
   ASSERT_GE(t.header.cells.size(), 2u);
+  EXPECT_EQ(t.header.cells[t.header.cells.size() - 3], "sd_param_mm");
   EXPECT_EQ(t.header.cells[t.header.cells.size() - 2], "sd_mm");
   EXPECT_EQ(t.header.cells.back(), "outside_support");
   for (const auto& row : t.rows) {
-    const double sd = std::stod(row.cells[row.cells.size() - 2]);
-    EXPECT_GT(sd, 0.0);
-    EXPECT_LT(sd, 0.05);  // 150 poses with 20 um noise: a few um
+    const double sd_param = std::stod(row.cells[row.cells.size() - 3]), sd = std::stod(row.cells[row.cells.size() - 2]);
+    EXPECT_GT(sd_param, 0.0);
+    EXPECT_LT(sd_param, 0.05);  // 150 poses with 20 um noise: a few um
+    // The training rows themselves: within the joint range, so (2) with the report's tau.
+    EXPECT_NEAR(sd, std::sqrt(sd_param * sd_param + tau_mm * tau_mm), 1e-6 + 1e-6 * sd);
   }
+
+  // A report written before tau: sd_mm is the parameters' part.
+  covariance->erase("inadequacy_m");
+  covariance->erase("inadequacy_beyond_m");
+  covariance->erase("inadequacy_source");
+  testing::WriteText(dir.path("old.json"), json.dump());
+  r = RunKincal("predict --robot " + dir.path("id.yaml") + " --nominal " + nominal + " --data " + dir.path("data.csv") +
+                " --report " + dir.path("old.json") + " --out " + dir.path("p_old.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("sd_mm is the parameters' part only"), std::string::npos) << r.out;
+  const CsvTable old = ParseCsv(testing::ReadText(dir.path("p_old.csv")), "p_old.csv");
+  ASSERT_EQ(old.rows.size(), 150u);
+  for (const auto& row : old.rows) EXPECT_EQ(row.cells[row.cells.size() - 3], row.cells[row.cells.size() - 2]);
 
   testing::WriteText(dir.path("bad.json"), "{\"stages\": [{\"details\": {}}]}\n");
   r = RunKincal("predict --robot " + dir.path("id.yaml") + " --data " + dir.path("data.csv") + " --report " +
