@@ -8,7 +8,6 @@
 // deviations still predicts with an sd). The trace, not the largest eigenvalue: sd^2 is then the expected squared
 // length of the 3-D prediction error that comes from the parameters, the quantity a user compares with a 3-D error.
 //
-//
 // (1) is the parameters' part only: it says how far the estimate could move within the model, never what
 // the model lacks (an arm's compliance where the file has no gravity term, a thermal drift), which
 // the training residuals partly absorb into sigma and which grows where the training poses do not reach.
