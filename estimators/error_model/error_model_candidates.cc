@@ -322,6 +322,29 @@ void ErrorModelProblem::Build() {
     }
     ++blocks_.back().size;
   }
+  SelectActiveJointErrors();
+}
+
+void ErrorModelProblem::SelectActiveJointErrors() {
+  // Equation (1) of models/joint_errors.h: a term whose coefficients are all held at zero adds
+  // 0 * phi = 0 to its joint and to every derivative, so leaving it out changes no value, not even
+  // in the last bit.
+  active_joint_errors_.terms.clear();
+  active_coefficient_.clear();
+  gravity_terms_ = false;
+  int k = 0;
+  for (const JointErrorTerm& t : start_.joint_errors.terms) {
+    const int m = static_cast<int>(t.keys.size());
+    bool active = false;
+    for (int j = 0; j < m; ++j) active = active || joint_error_column_[k + j] >= 0 || t.coefficients[j] != 0.0;
+    if (active) {
+      active_joint_errors_.terms.push_back(t);
+      for (int j = 0; j < m; ++j) active_coefficient_.push_back(k + j);
+      gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
+    }
+    k += m;
+  }
+  joint_errors_active_ = !active_joint_errors_.empty();
 }
 
 void ErrorModelProblem::MeasureRegressors() {

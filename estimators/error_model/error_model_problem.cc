@@ -81,10 +81,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   if (data.rows.empty()) throw std::invalid_argument(data.source + ": the dataset has no rows");
   if (start.drives) start.drives->Validate(n);
   start.ValidateJointLevel();
-  joint_errors_active_ = !start.joint_errors.empty();
   coefficient_joints_ = start.joint_errors.CoefficientJoints();
-  for (const auto& t : start.joint_errors.terms)
-    gravity_terms_ = gravity_terms_ || t.type == JointErrorTerm::Type::kGravity;
 
   const RowSummary summary = TabulateRows();
   FindJointParameters();

@@ -177,6 +177,7 @@ class ErrorModelProblem {
     std::vector<Eigen::Isometry3d> session_base;        // T_meas_base per session slot
     std::vector<Eigen::Isometry3d> session_from_base0;  // T_meas(k)_meas(0) = B_k B_0^-1
     JointErrors joint_errors;                           // the start robot's terms with x's coefficients
+    JointErrors active_joint_errors;                    // the terms a row evaluates, with x's coefficients
     Eigen::VectorXd qbar, qbar_previous, q;             // drive angles (and the previous pose's), actual angles
     JointErrorMap joint_error_map;
     Matrix6Xd J_model;
@@ -305,10 +306,15 @@ class ErrorModelProblem {
   std::vector<int> marker_block_;                   // per marker slot: block index or -1
   std::vector<int> session_block_;                  // per session slot: block index or -1
   int geometry_block_ = -1, ratio_block_ = -1, joint_error_block_ = -1, base_block_ = -1;
-  // Joint error terms in use (a copy of the start's), their regressors' needs.
-  bool joint_errors_active_ = false;
-  bool gravity_terms_ = false;
-  std::vector<int> coefficient_joints_;  // per joint error coefficient: the 0-based joint it offsets
+  // Joint error terms a row evaluates (SelectActiveJointErrors, after Build): those with a free
+  // coefficient or a non-zero held one. A term held whole at zero offsets no joint, so its regressors
+  // (gravity's with their geometry derivatives are most of a row's cost) are not computed at all.
+  void SelectActiveJointErrors();
+  JointErrors active_joint_errors_;      // the start's active terms, in the start's order
+  std::vector<int> active_coefficient_;  // per active coefficient: its index among the start's coefficients
+  bool joint_errors_active_ = false;     // any active term
+  bool gravity_terms_ = false;           // any active gravity term
+  std::vector<int> coefficient_joints_;  // per joint error coefficient (the start's): the 0-based joint it offsets
 };
 
 }  // namespace kincal

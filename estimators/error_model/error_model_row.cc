@@ -25,6 +25,7 @@ std::unique_ptr<ErrorModelProblem::Workspace> ErrorModelProblem::NewWorkspace() 
   auto ws = std::make_unique<Workspace>();
   ws->model = start_.model().Clone();
   ws->joint_errors = start_.joint_errors;
+  ws->active_joint_errors = active_joint_errors_;
   return ws;
 }
 
@@ -45,12 +46,17 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
   for (int i = 0; i < n; ++i) {
     if (ratio_column_[i] >= 0) ws->scale[i] = x[ratio_column_[i]];
   }
-  if (joint_errors_active_) {
+  if (!start_.joint_errors.empty()) {
     Eigen::VectorXd c = start_.joint_errors.Coefficients();
     for (size_t k = 0; k < joint_error_column_.size(); ++k) {
       if (joint_error_column_[k] >= 0) c[static_cast<Eigen::Index>(k)] = x[joint_error_column_[k]];
     }
     ws->joint_errors.SetCoefficients(c);
+    Eigen::VectorXd active(static_cast<Eigen::Index>(active_coefficient_.size()));
+    for (size_t a = 0; a < active_coefficient_.size(); ++a)
+      active[static_cast<Eigen::Index>(a)] = c[active_coefficient_[a]];
+    if (ws->active_joint_errors.num_coefficients() != active.size()) ws->active_joint_errors = active_joint_errors_;
+    ws->active_joint_errors.SetCoefficients(active);
   }
   ws->markers.resize(marker_ids_.size());
   for (size_t k = 0; k < marker_ids_.size(); ++k) {
@@ -101,8 +107,8 @@ bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) co
   }
   const JointErrorMap::Want want{jacobian && ratio_block_ >= 0, jacobian && ratio_block_ >= 0 && has_previous,
                                  jacobian && geometry_block_ >= 0 && gravity_terms_};
-  EvaluateJointErrorMap(ws->joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr, want,
-                        &map);
+  EvaluateJointErrorMap(ws->active_joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr,
+                        want, &map);
   ws->q = map.q;
   return has_previous;
 }
@@ -195,10 +201,11 @@ void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6X
     J.col(c) = Jq * dq_ds;
   }
   if (joint_errors_active_) {
-    const std::vector<int>& joints = coefficient_joints_;
-    for (size_t k = 0; k < joint_error_column_.size(); ++k) {
+    // Free coefficients belong to active terms: map.phi holds the active ones' regressors.
+    for (size_t a = 0; a < active_coefficient_.size(); ++a) {
+      const int k = active_coefficient_[a];
       const int c = joint_error_column_[k];
-      if (c >= 0) J.col(c) = Jq.col(joints[k]) * map.phi[static_cast<Eigen::Index>(k)];
+      if (c >= 0) J.col(c) = Jq.col(coefficient_joints_[k]) * map.phi[static_cast<Eigen::Index>(a)];
     }
   }
   if (marker >= 0) {
