@@ -105,6 +105,54 @@ TEST(JointErrorModel, ARegressorThatIsZeroByGeometryHasNoEffect) {
   }
 }
 
+// Terms held whole at zero add nothing (equation 1 of models/joint_errors.h), so the problem leaves them
+// out: residuals and Jacobian equal, to the last bit, those of the same robot without the terms, at the
+// start and away from it (ratios and geometry moved, the chain rule through the joint angles exercised).
+TEST(JointErrorModel, TermsHeldAtZeroGiveTheProblemWithoutThem) {
+  const JointErrorCase c = MakeCase(40, 5);
+  Robot without = c.nominal;
+  without.joint_errors.terms.clear();
+  ErrorModelOptions fixed;
+  fixed.fixed = {"joint_errors"};
+  const ErrorModelProblem held(c.nominal, c.nominal, c.data, fixed);
+  const ErrorModelProblem plain(without, c.nominal, c.data, ErrorModelOptions());
+  ASSERT_EQ(held.ParameterNames(), plain.ParameterNames());
+  Eigen::VectorXd moved = held.InitialX();
+  Rng rng(8);
+  for (int j = 0; j < moved.size(); ++j) moved[j] += rng.Uniform(-1, 1) * held.CharacteristicScales()[j];
+  for (const Eigen::VectorXd& x : {held.InitialX(), moved}) {
+    auto ws_held = held.NewWorkspace(), ws_plain = plain.NewWorkspace();
+    Vector6d r_held, r_plain;
+    Matrix6Xd J_held, J_plain;
+    for (int i = 0; i < held.num_rows(); ++i) {
+      ASSERT_EQ(held.EvaluateRow(i, x, ws_held.get(), &r_held, &J_held),
+                plain.EvaluateRow(i, x, ws_plain.get(), &r_plain, &J_plain));
+      ASSERT_TRUE(r_held == r_plain) << "row " << i;
+      ASSERT_TRUE(J_held == J_plain) << "row " << i;
+    }
+  }
+}
+
+// A term held at NON-zero coefficients still moves its joint: with the truth as the start, everything
+// held that the truth has (the noise-free data come from it), the residuals vanish; with the same terms
+// held at zero they do not (the terms matter to these data).
+TEST(JointErrorModel, TermsHeldAtNonZeroCoefficientsStillShiftThePrediction) {
+  JointErrorCase c = MakeCase(40, 5);
+  ErrorModelOptions options;
+  options.initialize_bases = false;
+  for (const std::vector<std::string>& fixed :
+       std::vector<std::vector<std::string>>{{"joint_errors"}, {"gravity"}, {"harmonic", "backlash", "approach"}}) {
+    options.fixed = fixed;
+    const ErrorModelProblem truth(c.truth, c.nominal, c.data, options);
+    EXPECT_LT(Residuals(truth, truth.InitialX()).cwiseAbs().maxCoeff(), 1e-12) << fixed[0];
+  }
+  Robot zero = c.truth;
+  zero.joint_errors.SetCoefficients(Eigen::VectorXd::Zero(zero.joint_errors.num_coefficients()));
+  options.fixed = {"joint_errors"};
+  const ErrorModelProblem without(zero, c.nominal, c.data, options);
+  EXPECT_GT(Residuals(without, without.InitialX()).cwiseAbs().maxCoeff(), 1e-5);
+}
+
 class JointErrorRecovery : public ErrorModelEstimatorTest {};
 
 TEST_P(JointErrorRecovery, NoiseFreeDataGiveTheTruthExactly) {
