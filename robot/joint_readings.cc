@@ -1,6 +1,8 @@
 #include "robot/joint_readings.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -47,9 +49,23 @@ const JointCorrection* JointCorrectionOf(const Robot& robot) {
 Eigen::VectorXd ApplyJointErrors(const Robot& robot, const Eigen::VectorXd& qbar,
                                  const Eigen::VectorXd* qbar_previous) {
   Eigen::VectorXd q = qbar;
-  if (!robot.joint_errors.empty()) {
-    const Eigen::VectorXd phi = EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
-    q += JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+  // A term whose coefficients are all zero offsets nothing (models/joint_errors.h eq. 1): its regressors
+  // (gravity's are the costly ones) are not evaluated, which leaves every value as it was to the last bit.
+  const auto zero = [](const JointErrorTerm& t) { return (t.coefficients.array() == 0.0).all(); };
+  const std::vector<JointErrorTerm>& terms = robot.joint_errors.terms;
+  const int nonzero =
+      static_cast<int>(std::count_if(terms.begin(), terms.end(), [&](const auto& t) { return !zero(t); }));
+  if (nonzero == static_cast<int>(terms.size())) {
+    if (!terms.empty()) {
+      const Eigen::VectorXd phi =
+          EvaluateRegressors(robot.joint_errors, JointErrorContextOf(robot), qbar, qbar_previous);
+      q += JointOffsets(robot.joint_errors, phi, static_cast<int>(qbar.size()));
+    }
+  } else if (nonzero > 0) {
+    JointErrors acting;
+    std::copy_if(terms.begin(), terms.end(), std::back_inserter(acting.terms), [&](const auto& t) { return !zero(t); });
+    const Eigen::VectorXd phi = EvaluateRegressors(acting, JointErrorContextOf(robot), qbar, qbar_previous);
+    q += JointOffsets(acting, phi, static_cast<int>(qbar.size()));
   }
   if (const JointCorrection* correction = JointCorrectionOf(robot))
     q += correction->Offset(robot, q, qbar, qbar_previous);

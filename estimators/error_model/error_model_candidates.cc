@@ -350,7 +350,16 @@ void ErrorModelProblem::SelectActiveJointErrors() {
 void ErrorModelProblem::MeasureRegressors() {
   const int K = start_.joint_errors.num_coefficients();
   std::vector<double> sum2(K, 0.0);
-  if (K > 0) {
+  // Without priors only the active terms' scales are read (CharacteristicScales and Bounds: free
+  // coefficients); with priors every candidate's prior sd is reported, held ones included.
+  const bool every_term = options_.prior.enabled;
+  const JointErrors& measured = every_term ? start_.joint_errors : active_joint_errors_;
+  std::vector<int> index = active_coefficient_;  // per measured coefficient: its index among the start's
+  if (every_term) {
+    index.resize(K);
+    for (int k = 0; k < K; ++k) index[k] = k;
+  }
+  if (!index.empty()) {
     auto ws = NewWorkspace();
     const int n = start_.dof();
     for (int row = 0; row < num_rows(); ++row) {
@@ -360,8 +369,9 @@ void ErrorModelProblem::MeasureRegressors() {
         previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n);
       }
       const Eigen::VectorXd phi =
-          EvaluateRegressors(start_.joint_errors, ContextOf(*ws), qbar, previous.size() ? &previous : nullptr);
-      for (int k = 0; k < K; ++k) sum2[k] += phi[k] * phi[k];
+          EvaluateRegressors(measured, ContextOf(*ws), qbar, previous.size() ? &previous : nullptr);
+      for (size_t a = 0; a < index.size(); ++a)
+        sum2[index[a]] += phi[static_cast<Eigen::Index>(a)] * phi[static_cast<Eigen::Index>(a)];
     }
   }
   // A regressor that is zero at every row keeps the scale 1, so that its (zero) column reads as "no

@@ -10,6 +10,7 @@
 
 #include "estimators/error_model/error_model.h"
 #include "framework/random.h"
+#include "robot/joint_readings.h"
 #include "tests/estimators/joint_error_fixture.h"
 
 namespace kincal::testing {
@@ -151,6 +152,34 @@ TEST(JointErrorModel, TermsHeldAtNonZeroCoefficientsStillShiftThePrediction) {
   options.fixed = {"joint_errors"};
   const ErrorModelProblem without(zero, c.nominal, c.data, options);
   EXPECT_GT(Residuals(without, without.InitialX()).cwiseAbs().maxCoeff(), 1e-5);
+}
+
+// The same for a robot's predictions (robot/joint_readings.h): terms whose coefficients are all zero are
+// not evaluated, and the actual angles equal, bit for bit, those of the robot without them; the terms
+// left (non-zero) still move the joints.
+TEST(JointErrorModel, ActualAnglesOfARobotWithZeroTermsAreThoseWithoutThem) {
+  const JointErrorCase c = MakeCase(40, 5);
+  Robot some_zero = c.truth, acting = c.truth;
+  acting.joint_errors.terms.clear();
+  for (JointErrorTerm& t : some_zero.joint_errors.terms) {
+    if (t.type == T::kGravity || t.type == T::kApproach)
+      t.coefficients.setZero();
+    else
+      acting.joint_errors.terms.push_back(t);
+  }
+  Robot all_zero = some_zero, none = c.truth;
+  for (JointErrorTerm& t : all_zero.joint_errors.terms) t.coefficients.setZero();
+  none.joint_errors.terms.clear();
+  const auto previous = c.data.PreviousPoses();
+  double moved = 0.0;
+  for (size_t i = 0; i < c.data.rows.size(); ++i) {
+    const Eigen::VectorXd q = ActualJointAngles(c.nominal, some_zero, c.data, i, previous);
+    ASSERT_TRUE(q == ActualJointAngles(c.nominal, acting, c.data, i, previous)) << "row " << i;
+    const Eigen::VectorXd qbar = ActualJointAngles(c.nominal, none, c.data, i, previous);
+    ASSERT_TRUE(ActualJointAngles(c.nominal, all_zero, c.data, i, previous) == qbar) << "row " << i;
+    moved = std::max(moved, (q - qbar).cwiseAbs().maxCoeff());
+  }
+  EXPECT_GT(moved, 1e-5);  // rad: harmonic and backlash terms of about 0.03 deg
 }
 
 class JointErrorRecovery : public ErrorModelEstimatorTest {};
