@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
+#include <Eigen/SVD>
 
 #include "compensators/common/random_targets.h"
 #include "framework/error.h"
@@ -29,6 +30,8 @@ const OptionTable<JointSpaceCompensator::Options>& JointSpaceCompensator::Option
           .Add("length_scale", OptionUnit::kLength, &O::length_scale, "position rows are divided by it", Positive())
           .Add("damping", &O::damping, "Levenberg damping (its square is mu)", NonNegative())
           .Add("max_step", &O::max_step, "rad: the longest step", Positive())
+          .Add("singular_ratio", &O::singular_ratio,
+               "off target with sigma_min / sigma_max below this at the result: singular", NonNegative())
           .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "converged within this position",
                Positive())
           .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation", Positive())
@@ -335,16 +338,29 @@ void JointSpaceCompensator::DoCompensate(const CompensationTarget& target, const
   }
 }
 
-void JointSpaceCompensator::JudgeErrors(const CompensationTarget& /*target*/, CompensationResult* result) const {
+void JointSpaceCompensator::JudgeErrors(const CompensationTarget& target, CompensationResult* result) const {
   CompensationReport& r = result->report;
   if (r.status != CompensationStatus::kConverged && r.status != CompensationStatus::kSingular) return;
   if (r.position_error <= options_.position_tolerance && r.orientation_error <= options_.orientation_tolerance) {
     r.status = CompensationStatus::kConverged;
     r.message.clear();
   } else if (r.status == CompensationStatus::kConverged) {
-    r.status = CompensationStatus::kIterationLimit;
-    r.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+    if (options_.singular_ratio > 0.0 && ConditionRatio(target, result->q_actual) < options_.singular_ratio) {
+      r.status = CompensationStatus::kSingular;
+      r.message = "the fixed Jacobian steps stopped off the target near a singular configuration";
+    } else {
+      r.status = CompensationStatus::kIterationLimit;
+      r.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+    }
   }
+}
+
+double JointSpaceCompensator::ConditionRatio(const CompensationTarget& target, const Eigen::VectorXd& q) const {
+  Matrix6Xd J = identified().model().JointJacobian(q);
+  J.topRows<3>() /= options_.length_scale;
+  const int rows = target.has_orientation ? 6 : 3;
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(J.topRows(rows)).singularValues();
+  return s[0] > 0 ? s[s.size() - 1] / s[0] : 0.0;
 }
 
 bool JointSpaceCompensator::InsideFittedRanges(const Joints& q) const {
