@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 
 #include "compensators/common/random_targets.h"
 #include "framework/error.h"
@@ -345,7 +345,7 @@ void JointSpaceCompensator::JudgeErrors(const CompensationTarget& target, Compen
     r.status = CompensationStatus::kConverged;
     r.message.clear();
   } else if (r.status == CompensationStatus::kConverged) {
-    if (options_.singular_ratio > 0.0 && ConditionRatio(target, result->q_actual) < options_.singular_ratio) {
+    if (options_.singular_ratio > 0.0 && NearSingular(target, result->q_actual)) {
       r.status = CompensationStatus::kSingular;
       r.message = "the fixed Jacobian steps stopped off the target near a singular configuration";
     } else {
@@ -355,12 +355,29 @@ void JointSpaceCompensator::JudgeErrors(const CompensationTarget& target, Compen
   }
 }
 
-double JointSpaceCompensator::ConditionRatio(const CompensationTarget& target, const Eigen::VectorXd& q) const {
-  Matrix6Xd J = identified().model().JointJacobian(q);
+bool JointSpaceCompensator::NearSingular(const CompensationTarget& target, const Eigen::VectorXd& q) const {
+  Jacobian J;
+  Eigen::Isometry3d T;
+  Pose(Joints(q), &T, &J);
   J.topRows<3>() /= options_.length_scale;
   const int rows = target.has_orientation ? 6 : 3;
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(J.topRows(rows)).singularValues();
-  return s[0] > 0 ? s[s.size() - 1] / s[0] : 0.0;
+  // The nonzero singular values of the rows used are the square roots of the eigenvalues of the smaller
+  // Gram matrix G (at most 6 x 6).
+  using Gram = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  const Gram G = rows <= J.cols() ? Gram(J.topRows(rows) * J.topRows(rows).transpose())
+                                  : Gram(J.topRows(rows).transpose() * J.topRows(rows));
+  const double ratio2 = options_.singular_ratio * options_.singular_ratio;
+  // lambda_max <= trace(G) and 1 / lambda_min <= trace(G^-1) = |L^-1|_F^2: when that lower bound of
+  // lambda_min / lambda_max clears the threshold (nearly always away from singular configurations), the
+  // eigenvalues are not needed (they cost a fifth of a lookup).
+  const Eigen::LLT<Gram> llt(G);
+  if (llt.info() == Eigen::Success) {
+    const Gram L_inv = llt.matrixL().solve(Gram::Identity(G.rows(), G.cols()));
+    if (1.0 / (G.trace() * L_inv.squaredNorm()) >= ratio2) return false;
+  }
+  const Eigen::SelfAdjointEigenSolver<Gram> eigen(G, Eigen::EigenvaluesOnly);
+  const auto& lambda = eigen.eigenvalues();  // ascending
+  return !(lambda[G.rows() - 1] > 0) || lambda[0] < ratio2 * lambda[G.rows() - 1];
 }
 
 bool JointSpaceCompensator::InsideFittedRanges(const Joints& q) const {

@@ -126,9 +126,9 @@ class JointSpaceCompensator final : public Compensator {
   // `steps` damped Gauss-Newton steps towards `target` from *q; *cut tells whether one was shortened.
   bool Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const;
   void JudgeErrors(const CompensationTarget& target, CompensationResult* result) const override;
-  // sigma_min / sigma_max of the identified model's Jacobian at q, in the target's rows, position rows
-  // divided by length_scale.
-  double ConditionRatio(const CompensationTarget& target, const Eigen::VectorXd& q) const;
+  // sigma_min / sigma_max of the expansion's Jacobian at q (the identified arm's to 1e-9), in the target's
+  // rows, position rows divided by length_scale, below singular_ratio.
+  bool NearSingular(const CompensationTarget& target, const Eigen::VectorXd& q) const;
   // Prismatic joints within the ranges their factors were fitted over.
   bool InsideFittedRanges(const Joints& q) const;
 
