@@ -346,6 +346,7 @@ BENCHMARK_CAPTURE(BM_KdlLma, default, false, false);
 BENCHMARK_CAPTURE(BM_KdlLma, tracked_matched, true, true);
 BENCHMARK_CAPTURE(BM_KdlLma, tracked_default, false, true);
 BENCHMARK_CAPTURE(BM_JointSpaceTracked, default, "{}");
+BENCHMARK_CAPTURE(BM_JointSpaceTracked, only_cut_steps_singular, "{singular_ratio: 0}");
 BENCHMARK_CAPTURE(BM_JointSpaceTracked, two_steps, "{steps: 2}");
 BENCHMARK_CAPTURE(BM_JointSpaceTracked, four_steps, "{steps: 4}");
 BENCHMARK(BM_JointSpacePrepare)->Unit(benchmark::kMillisecond);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "compensators/common/random_targets.h"
 #include "framework/error.h"
@@ -29,6 +30,8 @@ const OptionTable<JointSpaceCompensator::Options>& JointSpaceCompensator::Option
           .Add("length_scale", OptionUnit::kLength, &O::length_scale, "position rows are divided by it", Positive())
           .Add("damping", &O::damping, "Levenberg damping (its square is mu)", NonNegative())
           .Add("max_step", &O::max_step, "rad: the longest step", Positive())
+          .Add("singular_ratio", &O::singular_ratio,
+               "off target with sigma_min / sigma_max below this at the result: singular", NonNegative())
           .Add("position_tolerance", OptionUnit::kLength, &O::position_tolerance, "converged within this position",
                Positive())
           .Add("orientation_tolerance", &O::orientation_tolerance, "rad: ... and this orientation", Positive())
@@ -335,16 +338,46 @@ void JointSpaceCompensator::DoCompensate(const CompensationTarget& target, const
   }
 }
 
-void JointSpaceCompensator::JudgeErrors(const CompensationTarget& /*target*/, CompensationResult* result) const {
+void JointSpaceCompensator::JudgeErrors(const CompensationTarget& target, CompensationResult* result) const {
   CompensationReport& r = result->report;
   if (r.status != CompensationStatus::kConverged && r.status != CompensationStatus::kSingular) return;
   if (r.position_error <= options_.position_tolerance && r.orientation_error <= options_.orientation_tolerance) {
     r.status = CompensationStatus::kConverged;
     r.message.clear();
   } else if (r.status == CompensationStatus::kConverged) {
-    r.status = CompensationStatus::kIterationLimit;
-    r.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+    if (options_.singular_ratio > 0.0 && NearSingular(target, result->q_actual)) {
+      r.status = CompensationStatus::kSingular;
+      r.message = "the fixed Jacobian steps stopped off the target near a singular configuration";
+    } else {
+      r.status = CompensationStatus::kIterationLimit;
+      r.message = "the fixed Jacobian steps left the pose off the target (see the errors)";
+    }
   }
+}
+
+bool JointSpaceCompensator::NearSingular(const CompensationTarget& target, const Eigen::VectorXd& q) const {
+  Jacobian J;
+  Eigen::Isometry3d T;
+  Pose(Joints(q), &T, &J);
+  J.topRows<3>() /= options_.length_scale;
+  const int rows = target.has_orientation ? 6 : 3;
+  // The nonzero singular values of the rows used are the square roots of the eigenvalues of the smaller
+  // Gram matrix G (at most 6 x 6).
+  using Gram = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  const Gram G = rows <= J.cols() ? Gram(J.topRows(rows) * J.topRows(rows).transpose())
+                                  : Gram(J.topRows(rows).transpose() * J.topRows(rows));
+  const double ratio2 = options_.singular_ratio * options_.singular_ratio;
+  // lambda_max <= trace(G) and 1 / lambda_min <= trace(G^-1) = |L^-1|_F^2: when that lower bound of
+  // lambda_min / lambda_max clears the threshold (nearly always away from singular configurations), the
+  // eigenvalues are not needed (they cost a fifth of a lookup).
+  const Eigen::LLT<Gram> llt(G);
+  if (llt.info() == Eigen::Success) {
+    const Gram L_inv = llt.matrixL().solve(Gram::Identity(G.rows(), G.cols()));
+    if (1.0 / (G.trace() * L_inv.squaredNorm()) >= ratio2) return false;
+  }
+  const Eigen::SelfAdjointEigenSolver<Gram> eigen(G, Eigen::EigenvaluesOnly);
+  const auto& lambda = eigen.eigenvalues();  // ascending
+  return !(lambda[G.rows() - 1] > 0) || lambda[0] < ratio2 * lambda[G.rows() - 1];
 }
 
 bool JointSpaceCompensator::InsideFittedRanges(const Joints& q) const {

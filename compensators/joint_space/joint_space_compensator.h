@@ -29,8 +29,10 @@
 // space (median 0.07 rad, 10 % above 0.25 rad: its wrist is near-singular there), hence 3 steps by
 // default: 2 leave 83 % of random targets within 0.05 mm and 1e-4 rad, 3 leave 97 %, 4 leave 99.5 %.
 // Status: kConverged when the identified model's pose at the result (the forward kinematics Compensate()
-// computes for the report) is within the tolerances; kSingular when a step was
-// cut to max_step (near a singular configuration the correction is large); kIterationLimit otherwise;
+// computes for the report) is within the tolerances; otherwise kSingular when a step was cut to max_step
+// (near a singular configuration the correction is large) or the steps stopped where sigma_min / sigma_max
+// of the identified arm's weighted Jacobian is below singular_ratio (the iterative compensators' test,
+// compensators/common/gauss_newton.h: the same word for the same place); kIterationLimit otherwise;
 // kFailed when a prismatic joint leaves the range its factor was fitted over. Accuracy, speed and
 // memory: compensators/README.md (tests/compensators/joint_space_accuracy_test.cc,
 // bench/compensators_bench.cc).
@@ -57,6 +59,10 @@ class JointSpaceCompensator final : public Compensator {
     double damping = 1e-6;
     // rad: the longest step (Euclidean norm); longer ones are scaled down and reported kSingular.
     double max_step = 0.5;
+    // A target left off the tolerances where sigma_min / sigma_max of the identified arm's Jacobian
+    // (position rows divided by length_scale) is below this is reported kSingular, as the iterative
+    // compensators do (their default singular_ratio). Only computed for such targets. 0: only cut steps.
+    double singular_ratio = 1e-3;
     // m and rad: kConverged when the final pose (by the expansion) is within both.
     double position_tolerance = 1e-6;
     double orientation_tolerance = 1e-6;
@@ -120,6 +126,9 @@ class JointSpaceCompensator final : public Compensator {
   // `steps` damped Gauss-Newton steps towards `target` from *q; *cut tells whether one was shortened.
   bool Steps(const CompensationTarget& target, int steps, Joints* q, bool* cut) const;
   void JudgeErrors(const CompensationTarget& target, CompensationResult* result) const override;
+  // sigma_min / sigma_max of the expansion's Jacobian at q (the identified arm's to 1e-9), in the target's
+  // rows, position rows divided by length_scale, below singular_ratio.
+  bool NearSingular(const CompensationTarget& target, const Eigen::VectorXd& q) const;
   // Prismatic joints within the ranges their factors were fitted over.
   bool InsideFittedRanges(const Joints& q) const;
 

@@ -132,6 +132,14 @@ def test_06_compensation(tmp_path):
         converged, median_iterations, _, median, worst, orientation = rows[method]
         assert converged == 20 and median_iterations <= 5 and worst < 1e-8 and orientation < 1e-9, out
     assert rows["joint_space"][0] >= 15 and rows["joint_space"][3] < 1e-6, out
+    # Every target joint_space leaves is near a singular configuration (at the real solution or at the
+    # controller's, where its steps start) and reported `singular`; the others are well conditioned.
+    stopped = re.findall(r"^joint_space target\s+\d+: (\w+), \S+ mm off; solution q4 \S+ q5 \S+ deg, "
+                         r"sigma ratio (\S+); controller's q4 \S+ q5 \S+ deg, sigma ratio (\S+);", out, re.M)
+    assert len(stopped) == 20 - rows["joint_space"][0], out
+    assert all(s == "singular" and min(float(a), float(b)) < 1e-3 for s, a, b in stopped), out
+    others = re.search(r"^sigma ratio at the solutions of the other targets: median (\S+)", out, re.M)
+    assert float(others.group(1)) > 1e-2, out
     for method in ("analytic_derivative", "jacobian"):
         curve = [float(v) for v in re.search(method + r"\s+median position error after 1-5 iterations: (.*) mm",
                                              out).group(1).split()]
