@@ -44,7 +44,7 @@ int GroupOrder(Group g) {
 
 }  // namespace
 
-ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
+ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows(Rows* per_row) {
   const Dataset& data = *data_;
   const int n = start_.dof();
   std::set<std::string> marker_set;
@@ -58,30 +58,14 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
   for (const auto& id : marker_ids_) start_.MarkerPosition(id);  // throws, naming the id
 
   const int rows = static_cast<int>(data.rows.size());
-  auto per_row = std::make_shared<Rows>();
   per_row->q_ref.resize(static_cast<size_t>(rows) * n);
   per_row->marker.resize(rows);
   per_row->session.resize(rows);
   per_row->orientation.resize(rows);
-  const bool previous_used = start_.joint_errors.uses_previous();
-  const std::vector<Dataset::Previous> previous =
-      previous_used ? data.PreviousPoses() : std::vector<Dataset::Previous>();
-  if (previous_used) {
-    per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
-    per_row->has_previous.assign(rows, 0);
-  }
   RowSummary summary;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
     const Eigen::VectorXd q = DriveAngles(controller_, start_, m);
-    if (previous_used) {
-      if (const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i])) {
-        const std::vector<int64_t>* enc = data.PreviousEncoders(previous[i]);
-        Eigen::Map<Eigen::VectorXd>(&per_row->q_prev_ref[static_cast<size_t>(i) * n], n) =
-            DriveAngles(controller_, start_, *q_prev, enc ? *enc : std::vector<int64_t>{});
-        per_row->has_previous[i] = 1;
-      }
-    }
     if (!q.allFinite())
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite joint angle");
     Eigen::Map<Eigen::VectorXd>(&per_row->q_ref[static_cast<size_t>(i) * n], n) = q;
@@ -102,8 +86,30 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows() {
     summary.any_orientation |= m.orientation.has_value();
     num_residuals_ += m.orientation ? 6 : 3;
   }
-  rows_ = std::move(per_row);
   return summary;
+}
+
+void ErrorModelProblem::TabulatePreviousPoses(Rows* per_row) const {
+  // Backlash and approach terms read the previous pose. Held whole at zero, they are not evaluated, so
+  // the previous poses are neither converted nor stored, unless priors report every candidate's scale
+  // (MeasureRegressors).
+  const bool used =
+      active_joint_errors_.uses_previous() || (options_.prior.enabled && start_.joint_errors.uses_previous());
+  if (!used) return;
+  const Dataset& data = *data_;
+  const int n = start_.dof();
+  const int rows = static_cast<int>(data.rows.size());
+  const std::vector<Dataset::Previous> previous = data.PreviousPoses();
+  per_row->q_prev_ref.assign(static_cast<size_t>(rows) * n, 0.0);
+  per_row->has_previous.assign(rows, 0);
+  for (int i = 0; i < rows; ++i) {
+    if (const Eigen::VectorXd* q_prev = data.PreviousQ(previous[i])) {
+      const std::vector<int64_t>* enc = data.PreviousEncoders(previous[i]);
+      Eigen::Map<Eigen::VectorXd>(&per_row->q_prev_ref[static_cast<size_t>(i) * n], n) =
+          DriveAngles(controller_, start_, *q_prev, enc ? *enc : std::vector<int64_t>{});
+      per_row->has_previous[i] = 1;
+    }
+  }
 }
 
 void ErrorModelProblem::FindJointParameters() {

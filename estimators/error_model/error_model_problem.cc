@@ -83,7 +83,10 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   start.ValidateJointLevel();
   coefficient_joints_ = start.joint_errors.CoefficientJoints();
 
-  const RowSummary summary = TabulateRows();
+  // The per-row tables are filled here and then shared, read-only, by every copy (Hold).
+  const auto per_row = std::make_shared<Rows>();
+  const RowSummary summary = TabulateRows(per_row.get());
+  rows_ = per_row;
   FindJointParameters();
   ListCandidates();
   std::map<std::string, std::string> reasons;  // the first reason given for a parameter is kept
@@ -94,6 +97,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
     if (it != reasons.end()) held_.push_back({p, it->second, false});
   }
   Build();
+  TabulatePreviousPoses(per_row.get());
   MeasureRegressors();
   AssignPriors();
   for (const auto& entry : options.prior.sd) {

@@ -252,7 +252,10 @@ class ErrorModelProblem {
     bool all_marked = true;        // every row names a marker
     bool any_orientation = false;  // a row measures the tool's orientation
   };
-  RowSummary TabulateRows();
+  struct Rows;
+  RowSummary TabulateRows(Rows* per_row);
+  // The previous poses' drive angles, where an active term (or a prior's scale) needs them (after Build).
+  void TabulatePreviousPoses(Rows* per_row) const;
   void FindJointParameters();
   void ListCandidates();
   void HoldFixedByOptions(std::map<std::string, std::string>* reasons) const;
