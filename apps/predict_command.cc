@@ -22,6 +22,30 @@
 
 namespace kincal::app {
 
+namespace {
+
+// The prediction covariance of the last stage of identify's report that has one.
+PredictionCovariance ReadReportCovariance(const std::string& path) {
+  nlohmann::json report;
+  try {
+    report = nlohmann::json::parse(ReadFileToString(path));
+  } catch (const nlohmann::json::exception& e) {
+    ThrowInputError(path, 0, 0, std::string("not a JSON report: ") + e.what());
+  }
+  const nlohmann::json* found = nullptr;
+  if (report.contains("stages")) {
+    for (const auto& stage : report["stages"]) {
+      if (stage.contains("details") && stage["details"].contains("prediction_covariance")) {
+        found = &stage["details"]["prediction_covariance"];
+      }
+    }
+  }
+  if (!found) ThrowInputError(path, 0, 0, "no stage with a prediction_covariance (an error-model estimator's)");
+  return NamingFile(path, [&] { return PredictionCovariance::FromJson(*found); });
+}
+
+}  // namespace
+
 void AddPredictCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("predict", "predict the measured position of every dataset row (x_mm, y_mm, z_mm)");
   struct Args {
@@ -65,23 +89,7 @@ void AddPredictCommand(CLI::App& app) {
     std::vector<double> sd;
     PredictionCovariance cov;
     if (!a->report.empty()) {
-      nlohmann::json report;
-      try {
-        report = nlohmann::json::parse(ReadFileToString(a->report));
-      } catch (const nlohmann::json::exception& e) {
-        ThrowInputError(a->report, 0, 0, std::string("not a JSON report: ") + e.what());
-      }
-      const nlohmann::json* found = nullptr;
-      if (report.contains("stages")) {
-        for (const auto& stage : report["stages"]) {
-          if (stage.contains("details") && stage["details"].contains("prediction_covariance")) {
-            found = &stage["details"]["prediction_covariance"];
-          }
-        }
-      }
-      if (!found)
-        ThrowInputError(a->report, 0, 0, "no stage with a prediction_covariance (an error-model estimator's)");
-      cov = NamingFile(a->report, [&] { return PredictionCovariance::FromJson(*found); });
+      cov = ReadReportCovariance(a->report);
       sd = PredictionSd(robot, controller, data, cov);
     }
     const Unit mm = LengthUnit("mm");
