@@ -1,4 +1,4 @@
-// Error-model estimators on the speed case: the seed's 6-joint arm, 1000 random poses seen by
+// Error-model estimators on the speed case of the target: the seed's 6-joint arm, 1000 random poses seen by
 // a tracker metres away (10 um noise, encoder counts), everything identifiable free (33 parameters:
 // geometry, base, tool position, six ratios). Target: least_squares within 10 ms, and no
 // slower than ceres in the same run. Adding an estimator to the comparison is one

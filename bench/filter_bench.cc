@@ -1,4 +1,4 @@
-// `kincal filter` on a RAPID module of 10,000 targets for the IRB 120 (the issue: <= 0.2 s on one core),
+// `kincal filter` on a RAPID module of 10,000 targets for the IRB 120 (target: <= 0.2 s on one core),
 // beside `compensate`'s work on the same targets: analytic_derivative from the controller's solutions
 // (seeds), without reading or writing a program. Identified robot: the nominal one with every length
 // moved by up to 0.5 mm and every angle by up to 0.05 deg (seeded), its base 1.5 m away and turned 90 deg,

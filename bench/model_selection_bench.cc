@@ -1,4 +1,4 @@
-// Model selection (`select: true`, estimators/selection/model_selection.h) on the case the issue names:
+// Model selection (`select: true`, estimators/selection/model_selection.h) on the case of the target:
 // ur10_ipa2021 series A, even rows (5,955 training rows), ur10_dh.yaml with a 100 mm tool and the richest
 // file (gravity 2-5, harmonic 1 and 2, backlash and approach on every joint: 23 nested candidates, 5
 // folds). Target: <= 10 s on one core for the whole estimate (cross-validation and the refit of the chosen

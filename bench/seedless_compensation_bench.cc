@@ -3,7 +3,7 @@
 //
 // Two kinds of targets, each the pose of a random configuration within the joint limits (seed 2000):
 //  - reachable: the identified (real) arm's pose, which the arm reaches by construction;
-//  - nominal: the nominal arm's pose, as the issue measured it. Next to a fold of the nominal workspace
+//  - nominal: the nominal arm's pose, as first measured. Next to a fold of the nominal workspace
 //    the identified arm does not reach such a pose on any configuration within its limits: those count
 //    as not reached whatever the compensator does.
 // Seeds, in the seeded run: the controller's solution, i.e. the nominal inverse kinematics on the branch
@@ -12,7 +12,7 @@
 // the seed). Identified robot: the seed's for its arm
 // (seed_identified.yaml), otherwise the nominal one with every length moved by up to 0.5 mm and every
 // angle by up to 0.05 deg (seeded). Counters: reached = converged within 1e-6 mm and 1e-8 rad (the
-// issue's criterion), changed = reached on another branch than the controller's, child_cpu_ms = the
+// acceptance criterion), changed = reached on another branch than the controller's, child_cpu_ms = the
 // command's CPU time (user + system; robust under load, unlike the wall time).
 //
 //   ./build/bench/kincal_seedless_compensation_bench --benchmark_counters_tabular=true

@@ -45,7 +45,7 @@ std::unique_ptr<Compensator> Make(const std::string& method, const std::string& 
 class EveryTarget : public ::testing::TestWithParam<std::string> {};
 
 // A program of 300 reachable poses without seeds (each from the commands of the one before): every one is
-// reached within the tolerances and the joint limits, some of them only on another branch than
+// reached within the required tolerances and the joint limits, some of them only on another branch than
 // the controller's (which the report says).
 TEST_P(EveryTarget, EveryPoseTheArmReachesIsReachedWithoutSeeds) {
   const auto compensator = Make(GetParam());

@@ -128,7 +128,7 @@ std::string Name(const ::testing::TestParamInfo<std::string>& info) { return inf
 
 INSTANTIATE_TEST_SUITE_P(AllCompensators, FarBase, ::testing::ValuesIn(Compensators().RegisteredNames()), Name);
 
-// The figures on all 2000 targets: joint_space within 0.05 mm and 1e-4 rad with seeds; the
+// The required figures on all 2000 targets: joint_space within 0.05 mm and 1e-4 rad with seeds; the
 // analytic derivative without seeds on the controller's branch, and its time against the seeded run.
 TEST(FarBaseFigures, JointSpaceAndSeedlessAnalyticDerivative) {
   const std::vector<CompensationTarget>& targets = Far().targets.targets;

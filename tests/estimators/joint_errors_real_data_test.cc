@@ -1,7 +1,7 @@
 // Joint-level errors on the real ABB IRB 120 of ../shared/data/irb120_faro: all 982 processed
 // rows in measurement order (each reached from its predecessor in the unfiltered readings), even rows fit,
 // odd rows scored. Geometry alone reaches 0.523 mm held-out;
-// the issue's goals: + gravity of joints 2 and 3 <= 0.47 mm, + the approach term of every joint
+// the goals: + gravity of joints 2 and 3 <= 0.47 mm, + the approach term of every joint
 // <= 0.30 mm (least_squares and ceres alike), and the three reflectors fitted jointly with that model
 // <= 0.32 mm each. The geometry is Hayati's (MDH with beta where consecutive axes are parallel): axes 2
 // and 3 of the IRB 120 are, and MDH cannot tilt one towards the other. Skipped when the data folder is
@@ -123,10 +123,10 @@ std::vector<double> ThreeReflectorHeldOut(const Dataset& all, Robot nominal, con
   return out;
 }
 
-// With the model of reflector 1 (geometry, gravity 2, 3, approach 1-6), every reflector within the issue's
+// With the model of reflector 1 (geometry, gravity 2, 3, approach 1-6), every reflector within the target
 // 0.32 mm. SMR2 sits 216 mm beyond the flange and 116 mm off its axis: it sees the tool's orientation error
 // most. In MDH, which cannot tilt axis 3 towards axis 2, it stays at 0.327 mm; Hayati's beta_3 (0.68 mrad
-// here) brings it to 0.315. The wrist's gravity terms (joints 4 and 5, the issue's "gravity terms of the
+// here) brings it to 0.315. The wrist's gravity terms (joints 4 and 5, the "gravity terms of the
 // wrist and payload") reduce the orientation error further.
 TEST(JointErrorsRealData3, ThreeReflectorsFittedJointly) {
   const Dataset all = ThreeReflectors();

@@ -13,7 +13,7 @@
 //   and backlash on every joint: the richest file, 0.238 mm): richer is right here; the selected model
 //   within 3 % of the full file's held-out RMS.
 // Selection runs as it does by default, its fits maximum a posteriori with the default priors
-// (model_selection.h); the models it is compared with are plain least-squares fits, as in the issue's
+// (model_selection.h); the models it is compared with are plain least-squares fits, as in the README's
 // table. With `prior: off` (measured before fits were analysed in flat valleys) B -> C picked
 // "+ harmonic 2" at 0.632 / 2.31 mm, above geometry's 0.629.
 // On all three, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).

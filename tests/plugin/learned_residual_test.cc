@@ -4,7 +4,7 @@
 // central difference of that pose, its parameters the inner model's; on the real IRB 120 (reflector 1,
 // even poses fit, odd poses scored) the residual on top of the wrist model lowers the held-out error. The
 // joint-level variant on the readings and approach speeds moves the marker by its residual, is inverted
-// by the readings' inverse, and reaches the 0.235 mm on the IRB 120.
+// by the readings' inverse, and reaches the target 0.235 mm on the IRB 120.
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -229,7 +229,7 @@ TEST(LearnedResidualRealData, LowersTheHeldOutErrorOfTheWristModelOnTheIrb120) {
 namespace kincal_learned {
 namespace {
 
-// The target: <= 0.235 mm held out on reflector 1 from the wrist model (0.247 mm), with the
+// The target: <= 0.235 mm held out on reflector 1 from the wrist model (0.247 mm), with the
 // residual a function of the readings and the approach speeds; hyper-parameters by cross-validation on
 // the even rows only.
 TEST(LearnedResidualRealData, ApproachFeaturesReachTheTargetOnTheIrb120) {

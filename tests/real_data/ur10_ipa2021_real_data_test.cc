@@ -149,7 +149,7 @@ INSTANTIATE_TEST_SUITE_P(Rows, Ur10Table, ::testing::ValuesIn(TableCases()),
 
 // `select: true` from the richest file (estimators/selection; maximum a posteriori with the default priors,
 // as selection fits unless the options give `prior`): the chosen candidate and its held-out error, and
-// the criteria against this series' rows of the table: RMS <= 1.05 x the best row and never
+// the acceptance criteria against this series' rows of the table: RMS <= 1.05 x the best row and never
 // above geometry's, max <= 1.5 x geometry's.
 struct SelectCase {
   std::string series;

@@ -44,7 +44,7 @@ TEST(Irb120FaroStudy, JointErrorsHalveTheHeldOutError) {
     EXPECT_EQ(status[std::string("smr1/") + e], "ok");
   }
 
-  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv, within the 0.32 mm
+  // Three reflectors jointly: the per-reflector held-out RMS from heldout.csv, within the target 0.32 mm
   // on every reflector with its model (approach), and lower with the wrist's gravity.
   const ResultTable h = ReadResultTable(tmp.path("out") + "/heldout.csv");
   std::map<std::string, std::map<std::string, std::pair<double, int>>> per_marker;  // estimator -> marker
