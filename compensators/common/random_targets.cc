@@ -21,11 +21,15 @@ bool RandomTargetOptions::IsValid(std::string* why) const {
   return true;
 }
 
+double SingularValueRatio(const Eigen::MatrixXd& A) {
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(A).singularValues();
+  return s.size() > 0 && s[0] > 0 ? s[s.size() - 1] / s[0] : 0.0;
+}
+
 double JacobianConditionRatio(const KinematicModel& model, const Eigen::VectorXd& q, double length_scale) {
   Matrix6Xd J = model.JointJacobian(q);
   J.topRows<3>() /= length_scale;
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
-  return s[0] > 0 ? s[s.size() - 1] / s[0] : 0.0;
+  return SingularValueRatio(J);
 }
 
 RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, const RandomTargetOptions& options) {

@@ -38,6 +38,8 @@ struct RandomTargets {
 // Throws std::invalid_argument for invalid options or robots that differ in joint count.
 RandomTargets MakeRandomTargets(const Robot& nominal, const Robot& identified, const RandomTargetOptions& options);
 
+// sigma_min / sigma_max of A (its min(rows, cols) singular values); 0 when A is zero.
+double SingularValueRatio(const Eigen::MatrixXd& A);
 // sigma_min / sigma_max of the model's Jacobian at q, position rows divided by length_scale.
 double JacobianConditionRatio(const KinematicModel& model, const Eigen::VectorXd& q, double length_scale);
 

@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 
 #include "compensators/common/random_targets.h"
 #include "framework/error.h"
@@ -369,15 +368,15 @@ bool JointSpaceCompensator::NearSingular(const CompensationTarget& target, const
   const double ratio2 = options_.singular_ratio * options_.singular_ratio;
   // lambda_max <= trace(G) and 1 / lambda_min <= trace(G^-1) = |L^-1|_F^2: when that lower bound of
   // lambda_min / lambda_max clears the threshold (nearly always away from singular configurations), the
-  // eigenvalues are not needed (they cost a fifth of a lookup).
+  // singular values are not needed.
   const Eigen::LLT<Gram> llt(G);
   if (llt.info() == Eigen::Success) {
     const Gram L_inv = llt.matrixL().solve(Gram::Identity(G.rows(), G.cols()));
     if (1.0 / (G.trace() * L_inv.squaredNorm()) >= ratio2) return false;
   }
-  const Eigen::SelfAdjointEigenSolver<Gram> eigen(G, Eigen::EigenvaluesOnly);
-  const auto& lambda = eigen.eigenvalues();  // ascending
-  return !(lambda[G.rows() - 1] > 0) || lambda[0] < ratio2 * lambda[G.rows() - 1];
+  // Near the threshold: the singular values themselves (rare, so the shared SVD of compensators/common
+  // rather than an eigen solver of this Gram type, which doubled this file's compile time).
+  return !(SingularValueRatio(J.topRows(rows)) >= options_.singular_ratio);
 }
 
 bool JointSpaceCompensator::InsideFittedRanges(const Joints& q) const {
