@@ -146,6 +146,50 @@ double DataSigma(const NormalEquations& ne, int p) {
   return dof > 0 ? std::sqrt(ne.irls_squares / dof) : NAN;
 }
 
+namespace {
+
+// A weak parameter drifts along a flat valley of the cost together with the parameters it trades
+// against (beta_1 and the base's pitch by degrees, only the joints' gravity telling them apart). Held
+// back at its start value alone, it would leave them where they drifted, far from any fit of the rest: the
+// rebuilt problem may then hold them too (a tilted axis 1 makes Hayati's beta_1 redundant with the base),
+// and the fit ends many times worse than it started. So the free parameters follow the held ones back
+// along the valley: with N = J^T W J (+ the priors' information) at the solution, the quadratic model of
+// the cost with the held displacement d_H fixed is least at d_F = -N_FF^-1 N_FH d_H. Left as they are
+// where that solve fails (N_FF singular or the result not finite).
+void FollowHeldAlongValley(const ErrorModelProblem& problem, const Eigen::MatrixXd& JtJ, const std::vector<int>& hold,
+                           const Eigen::VectorXd& solution, Eigen::VectorXd* restart) {
+  const int p = static_cast<int>(solution.size());
+  if (JtJ.rows() != p) return;
+  std::vector<bool> held(p, false);
+  for (int i : hold) held[i] = true;
+  std::vector<int> free;
+  for (int i = 0; i < p; ++i) {
+    if (!held[i]) free.push_back(i);
+  }
+  if (free.empty()) return;
+  const Eigen::VectorXd prior = PriorInformation(problem);
+  const int f = static_cast<int>(free.size()), h = static_cast<int>(hold.size());
+  Eigen::MatrixXd N_FF(f, f), N_FH(f, h);
+  Eigen::VectorXd d_H(h);
+  for (int b = 0; b < h; ++b) d_H[b] = (*restart)[hold[b]] - solution[hold[b]];
+  for (int a = 0; a < f; ++a) {
+    for (int b = 0; b < f; ++b) N_FF(a, b) = JtJ(free[a], free[b]);
+    N_FF(a, a) += prior[free[a]];
+    for (int b = 0; b < h; ++b) N_FH(a, b) = JtJ(free[a], hold[b]);
+  }
+  // Column-normalised, where N_FF is best conditioned (units differ by orders of magnitude).
+  const Eigen::VectorXd d = N_FF.diagonal().cwiseMax(0.0).cwiseSqrt();
+  if (!(d.minCoeff() > 0.0)) return;
+  const Eigen::VectorXd d_inv = d.cwiseInverse();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(d_inv.asDiagonal() * N_FF * d_inv.asDiagonal());
+  if (ldlt.info() != Eigen::Success) return;
+  const Eigen::VectorXd d_F = -(d_inv.asDiagonal() * ldlt.solve(d_inv.asDiagonal() * (N_FH * d_H)));
+  if (!d_F.allFinite()) return;
+  for (int a = 0; a < f; ++a) (*restart)[free[a]] += d_F[a];
+}
+
+}  // namespace
+
 bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
                         Eigen::VectorXd* x) {
   *x = solution;
@@ -163,8 +207,9 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
   }
   if (hold.empty()) return false;
   Eigen::VectorXd restart = solution;
+  for (int i : hold) restart[i] = problem.parameters()[i].prior_mean;  // held at the start value
+  FollowHeldAlongValley(problem, ne.JtJ, hold, solution, &restart);
   for (int i : hold) {
-    restart[i] = problem.parameters()[i].prior_mean;  // held at the start value, not where it drifted
     const std::string& name = problem.parameters()[i].name;
     std::string reason = "weakly identifiable, held at its start value (no prior): ";
     for (const auto& w : weak) {

@@ -68,8 +68,10 @@ void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, d
                PreparedErrorModel* prep, Eigen::VectorXd* x);
 
 // At a solution of prep->problem: finds the weakly identifiable parameters (prep->weak) and holds those
-// without a prior (prep->weak_held); when it holds any, rebuilds prep there (RestartAt) and returns true:
-// the estimator minimises again from *x. Otherwise *x = solution.
+// without a prior (prep->weak_held) at their start values, the free parameters moved with them along the
+// cost's valley (to where the quadratic model at the solution is least with the held ones fixed); when it
+// holds any, rebuilds prep there (RestartAt) and returns true: the estimator minimises again from *x.
+// Otherwise *x = solution.
 bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
                         Eigen::VectorXd* x);
 

@@ -67,8 +67,8 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
     if (FinishIfNothingFree(prep, identified, report)) return;  // every parameter was weak
     const Eigen::VectorXd restart = x;
     run = run_from();
-    // Each held parameter went back to its start value while its partners stayed where they drifted with
-    // it (beta_1 and the base's pitch, by degrees): when what is left of the budget does not bring the fit
+    // The held parameters went back to their start values, their partners along the valley with them
+    // (HoldWeakParameters) to first order only: when what is left of the budget does not bring the fit
     // back, it starts again from there with a budget of its own.
     if (run.status == EstimationStatus::kIterationLimit) {
       x = restart;
