@@ -139,8 +139,9 @@ std::string PoseConstraints::TrackerViolation(const Eigen::VectorXd& q, const st
     return "acceptance angle: the tracker " + Deg(angle) + " off the reflector's axis (acceptance " + Deg(options_.acceptance_angle) +
            ")";
   }
-  // The tool's capsule holds the marker itself; the others must leave the line of sight clear.
-  for (size_t i = 0; i + 1 < capsules.size(); ++i) {
+  // The last link's and the tool's capsules hold the marker (the acceptance angle keeps the line of
+  // sight off them); the others must leave it clear.
+  for (size_t i = 0; i + 2 < capsules.size(); ++i) {
     const Capsule& c = capsules[i];
     if (SegmentDistance(marker, tracker_, c.a, c.b) < c.radius + options_.sight_clearance) {
       return "line of sight: link " + std::to_string(i + 1) + " in the way";
@@ -150,6 +151,11 @@ std::string PoseConstraints::TrackerViolation(const Eigen::VectorXd& q, const st
 }
 
 std::string PoseConstraints::Violation(const Eigen::VectorXd& q) const {
+  const std::string why = ArmViolation(q);
+  return why.empty() && options_.tracker ? TrackerViolation(q, Capsules(q)) : why;
+}
+
+std::string PoseConstraints::ArmViolation(const Eigen::VectorXd& q) const {
   std::string why = JointViolation(q);
   if (!why.empty()) return why;
   const std::vector<Capsule> capsules = Capsules(q);
@@ -168,7 +174,7 @@ std::string PoseConstraints::Violation(const Eigen::VectorXd& q) const {
              Mm(low - options_.floor_height) + " above the floor";
     }
   }
-  return options_.tracker ? TrackerViolation(q, capsules) : "";
+  return "";
 }
 
 }  // namespace kincal

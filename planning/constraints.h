@@ -3,7 +3,8 @@
 // inside their limits; the arm's links, approximated as capsules (a segment and a radius: frame i-1 to
 // frame i of the model, i = 1..n, then the flange to the marker), apart from each other and above the
 // floor; and, with a tracker, the marker within its range, the line of sight within the reflector's
-// acceptance angle and clear of every link's capsule. All in the robot's base frame, SI.
+// acceptance angle and clear of every link's capsule but the last link's and the tool's, which hold the
+// marker. All in the robot's base frame, SI.
 #include <string>
 #include <vector>
 
@@ -36,6 +37,8 @@ class PoseConstraints {
   // "" when q meets every constraint, else the first one it breaks as "kind: detail", the kinds being
   // joint limits, link clearance, floor, tracker range, acceptance angle, line of sight.
   std::string Violation(const Eigen::VectorXd& q) const;
+  // The same for the arm's own constraints only (joint limits, link clearance, floor): where it can work.
+  std::string ArmViolation(const Eigen::VectorXd& q) const;
 
   const Eigen::Vector3d& tracker_position() const { return tracker_; }
   const std::vector<double>& radii() const { return radii_; }

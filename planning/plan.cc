@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cctype>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 #include "framework/error.h"
@@ -53,6 +56,8 @@ CandidatePool ParseCandidatePool(const std::string& text, const std::string& sou
   CandidatePool pool;
   pool.source = source;
   pool.table = ParseCsv(text, source);
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) pool.lines.push_back(line);
   const int n = robot.dof();
   std::vector<int> columns(n);
   std::vector<double> to_si(n);
@@ -92,52 +97,63 @@ CandidatePool GenerateCandidates(const Robot& robot, const PlanOptions& options)
 
 std::string PoolRowsCsv(const CandidatePool& pool, const std::vector<int>& rows) {
   std::string out;
-  for (const std::string& c : pool.table.comments) out += "#" + c + "\n";
-  const auto line = [&out](const std::vector<std::string>& cells) {
-    for (size_t k = 0; k < cells.size(); ++k) out += (k ? "," : "") + cells[k];
-    out += "\n";
-  };
-  line(pool.table.header.cells);
-  for (int i : rows) line(pool.table.rows[i].cells);
+  for (int l = 0; l < pool.table.header.line; ++l) out += pool.lines[l] + "\n";
+  for (int i : rows) out += pool.lines[pool.table.rows[i].line - 1] + "\n";
   return out;
 }
 
-PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool, const PlanOptions& options) {
+PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool, const PlanOptions& options,
+                                int at_least) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("plan options: " + why);
   const PoseConstraints constraints(nominal, options);
   PlanningProblem problem;
+  std::vector<Eigen::VectorXd> feasible, workspace;
   for (size_t i = 0; i < pool.q.size(); ++i) {
     const std::string violation = constraints.Violation(pool.q[i]);
     if (violation.empty()) {
       problem.feasible.push_back(static_cast<int>(i));
+      feasible.push_back(pool.q[i]);
     } else {
       ++problem.rejected[ReasonKind(violation)];
     }
+    if (options.workspace_samples == 0 && constraints.ArmViolation(pool.q[i]).empty()) workspace.push_back(pool.q[i]);
   }
-  problem.model = BuildInformation(nominal, pool.q, options.measurement_noise);
+  if (static_cast<int>(feasible.size()) < at_least) {
+    std::string reasons;
+    for (const auto& [kind, count] : problem.rejected) reasons += (reasons.empty() ? "" : ", ") + kind + " " + std::to_string(count);
+    throw std::invalid_argument("plan: " + std::to_string(at_least) + " poses asked for, " +
+                                std::to_string(feasible.size()) + " of " + std::to_string(pool.q.size()) +
+                                " candidates meet the constraints (rejected: " + reasons + ")");
+  }
+  problem.model = BuildInformation(nominal, feasible, options.measurement_noise);
   if (options.criterion == "I") {
-    std::vector<Eigen::VectorXd> sample = pool.q;
     if (options.workspace_samples > 0) {
       PlanOptions drawn = options;
       drawn.generated_candidates = options.workspace_samples;
       drawn.seed = options.seed + 1;
-      sample = GenerateCandidates(nominal, drawn).q;
+      for (const Eigen::VectorXd& q : GenerateCandidates(nominal, drawn).q) {
+        if (constraints.ArmViolation(q).empty()) workspace.push_back(q);
+      }
     }
-    problem.workspace = WorkspaceRows(nominal, sample, options.measurement_noise, problem.model);
+    if (workspace.empty()) throw std::invalid_argument("plan: no configuration of the workspace sample meets the arm's constraints");
+    problem.workspace = WorkspaceRows(nominal, workspace, options.measurement_noise, problem.model);
   }
   return problem;
 }
 
 MeasurementPlan PlanMeasurements(const Robot& nominal, const CandidatePool& pool, int K, const PlanOptions& options) {
   if (K < 1) throw std::invalid_argument("plan: --poses must be at least 1, got " + std::to_string(K));
-  const PlanningProblem problem = PreparePlanning(nominal, pool, options);
+  const PlanningProblem problem = PreparePlanning(nominal, pool, options, K);
   MeasurementPlan plan;
   plan.feasible = problem.feasible;
   plan.rejected = problem.rejected;
   plan.parameters = problem.model.names;
-  plan.chosen = GreedySelect(problem.model, problem.feasible, K, options.criterion, problem.workspace);
-  plan.scores = ScoreDesign(problem.model, plan.chosen, problem.workspace);
+  std::vector<int> all(problem.feasible.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  const std::vector<int> picked = GreedySelect(problem.model, all, K, options.criterion, problem.workspace);
+  for (int k : picked) plan.chosen.push_back(problem.feasible[k]);
+  plan.scores = ScoreDesign(problem.model, picked, problem.workspace);
   std::vector<Eigen::VectorXd> q;
   for (int i : plan.chosen) q.push_back(pool.q[i]);
   const std::vector<int> order = OrderPoses(nominal, q);

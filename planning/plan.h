@@ -20,6 +20,7 @@ namespace kincal {
 struct CandidatePool {
   std::string source;
   CsvTable table;                  // as read (or generated): comments, header and rows, cells verbatim
+  std::vector<std::string> lines;  // the text's lines, written back as they are
   std::vector<Eigen::VectorXd> q;  // per row, the joint columns in rad (m for prismatic joints)
 };
 
@@ -29,7 +30,8 @@ CandidatePool ParseCandidatePool(const std::string& text, const std::string& sou
 // options.generated_candidates configurations drawn uniformly within the limits less the margin
 // (seeded), in the robot file's angle unit, each value written as the shortest text that reads back.
 CandidatePool GenerateCandidates(const Robot& robot, const PlanOptions& options);
-// The pool's comments and header, then `rows` (indices into the pool) in that order: a CSV text.
+// The pool's lines up to its header (comments included), then the lines of `rows` (indices into the
+// pool) in that order, each as written: a CSV text.
 std::string PoolRowsCsv(const CandidatePool& pool, const std::vector<int>& rows);
 
 struct MeasurementPlan {
@@ -46,13 +48,15 @@ struct MeasurementPlan {
 // Throws std::invalid_argument for invalid options, K < 1 or fewer feasible candidates than K.
 MeasurementPlan PlanMeasurements(const Robot& nominal, const CandidatePool& pool, int K, const PlanOptions& options);
 
-// The part of the plan before ordering, for studies of the criteria: the feasible candidates' model.
+// The part of the plan before the choice, for studies of the criteria.
 struct PlanningProblem {
-  InformationModel model;                  // over every candidate (identifiability from all of them)
-  std::vector<Eigen::MatrixXd> workspace;  // I-optimality's rows
-  std::vector<int> feasible;
+  std::vector<int> feasible;               // the candidates meeting the constraints (pool indices)
   std::map<std::string, int> rejected;
+  InformationModel model;                  // rows: the feasible candidates, in that order
+  std::vector<Eigen::MatrixXd> workspace;  // I-optimality's rows: where the arm works (ArmViolation "")
 };
-PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool, const PlanOptions& options);
+// Throws std::invalid_argument for invalid options or fewer than `at_least` feasible candidates.
+PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool, const PlanOptions& options,
+                                int at_least = 1);
 
 }  // namespace kincal

@@ -56,7 +56,7 @@ const OptionTable<PlanOptions>& PlanOptions::Table() {
         .Add("measurement_noise", U::kLength, &O::measurement_noise,
              "noise per coordinate of a measurement: weighs the priors against the data", Positive())
         .Add("workspace_samples", &O::workspace_samples,
-             "I-optimality's workspace: configurations drawn within the limits; 0: the candidates", AtLeast(0))
+             "I-optimality's workspace: configurations drawn within the limits; 0: the candidates (those the arm reaches)", AtLeast(0))
         .Add("settle_time", &O::settle_time, "seconds the program waits at each pose", NonNegative())
         .Add("joint_speed", U::kAngleDeg, &O::joint_speed, "URScript movej speed (deg/s)", Between(0, 1e4, true, false))
         .Add("joint_acceleration", U::kAngleDeg, &O::joint_acceleration, "URScript movej acceleration (deg/s^2)",

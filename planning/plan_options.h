@@ -11,7 +11,9 @@ namespace kincal {
 
 struct PlanOptions {
   // ---- candidates -----------------------------------------------------------------------------------
-  int generated_candidates = 2000;  // without a pool: configurations drawn uniformly within the limits
+  // Without a pool: configurations drawn uniformly within the limits (a few in a hundred face a tracker
+  // within the acceptance angle of a reflector on the flange).
+  int generated_candidates = 20000;
   int seed = 1;                     // of that draw and of the workspace sample
   // ---- constraints ----------------------------------------------------------------------------------
   double joint_limit_margin = 5.0 * M_PI / 180.0;  // rad (deg in the file): kept from each limit
@@ -38,7 +40,7 @@ struct PlanOptions {
   std::string criterion = "I";
   double measurement_noise = 1e-4;  // m per coordinate: weighs the priors against a measurement
   // I-optimality's workspace: this many configurations drawn within the limits (seeded); 0: the
-  // candidates themselves (a pool measured where the arm works, or the generated set).
+  // candidates. Either way, those that meet the arm's own constraints (the tracker's aside).
   int workspace_samples = 0;
   // ---- measurement program ----------------------------------------------------------------------
   double settle_time = 2.0;                     // s: wait at each pose before the tracker reads

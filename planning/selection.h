@@ -13,7 +13,8 @@
 //   A  minimise trace C             (the sum of the parameters' variances, scaled)
 //   I  minimise trace(W C), W the mean of J_s^T J_s over a sample of the workspace: the mean variance
 //      of a predicted position where the arm will work (Atkinson, Donev & Tobias, Optimum Experimental
-//      Designs, 2007, 10.6)
+//      Designs, 2007, 10.6); the sample: the candidates that meet the arm's own constraints, tracker or
+//      not (or PlanOptions::workspace_samples configurations drawn within the limits)
 // Greedy forward selection: each step adds the candidate that improves the criterion most, from the
 // Woodbury identity (a rank-3 update per candidate: S = I + J C J^T; D gains log det S, A gains
 // trace(S^-1 J C C J^T), I gains trace(S^-1 J C W C J^T)), then updates C by it. This is the forward
