@@ -1,7 +1,6 @@
 // Measurement programs of a plan (planning/measurement_program.h).
 #include "planning/measurement_program.h"
 
-#include <cctype>
 #include <stdexcept>
 
 #include "framework/units.h"
@@ -72,14 +71,9 @@ std::string UrScript(const std::vector<Eigen::VectorXd>& q, const PlanOptions& o
 }  // namespace
 
 std::string MeasurementProgramFormat(const std::string& path) {
-  const size_t dot = path.find_last_of('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == "mod" || ext == "prg" || ext == "modx") return "rapid";
-  if (ext == "src" || ext == "dat") return "krl";
-  if (ext == "script") return "urscript";
-  throw std::invalid_argument(path + ": no measurement program format for the extension '." + ext +
-                              "' (.mod .prg .modx: RAPID, .src .dat: KRL, .script: URScript)");
+  const std::string format = ProgramFormatFromExtension(path);
+  if (format == "csv") throw std::invalid_argument(path + ": a CSV file of targets is no measurement program (.mod, .src, .script)");
+  return format;
 }
 
 std::string WriteMeasurementProgram(const std::string& format, const std::vector<Eigen::VectorXd>& q,

@@ -14,8 +14,8 @@
 
 namespace kincal {
 
-// "rapid", "krl" or "urscript" from a file name (.mod .prg .modx, .src .dat, .script); throws
-// std::invalid_argument naming the extension otherwise.
+// "rapid", "krl" or "urscript" from a file name (programs/program.h ProgramFormatFromExtension: .mod .prg
+// .modx, .dat .src, .script); throws std::invalid_argument naming the extension otherwise.
 std::string MeasurementProgramFormat(const std::string& path);
 // The program text; q: the poses in order, rad, 6 joints each (the formats' joint targets hold 6);
 // throws std::invalid_argument otherwise. `name`: the module's or routine's name (letters, digits, '_').

@@ -36,7 +36,7 @@ struct PlanOptions {
   double floor_clearance = 0.02;  // m: every capsule but the first (mounted on the floor) above it
   // ---- choice -------------------------------------------------------------------------------------
   // D, A or I (planning/selection.h). I: the one that predicted held-out poses best on the real UR10
-  // (docs/planning.md, tests/real_data/ur10_ipa2021_plan_test.cc), D the worst.
+  // (docs/planning.md, tests/real_data/plan_real_data_test.cc), D the worst.
   std::string criterion = "I";
   double measurement_noise = 1e-4;  // m per coordinate: weighs the priors against a measurement
   // I-optimality's workspace: this many configurations drawn within the limits (seeded); 0: the

@@ -97,7 +97,7 @@ TEST(PlanCommand, BadInputExitsTwoWithOneLineAndWritesNothing) {
       {base + " --poses 5 --plan-options " + dir.path("bad.yaml"), "bad.yaml: line 2, column 12"},
       {base + " --poses 0", "--poses must be at least 1"},
       {base + " --poses 5000", "candidates meet the constraints"},
-      {base + " --poses 5 --program " + dir.path("p.txt"), "no measurement program format for the extension '.txt'"},
+      {base + " --poses 5 --program " + dir.path("p.txt"), "no program format for the extension '.txt'"},
   };
   for (const auto& [args, expected] : cases) {
     const auto r = RunKincal(args);
