@@ -85,6 +85,15 @@ TEST(PlanCommand, APoolsRowsComeOutAsWrittenInThePlannedOrder) {
   EXPECT_EQ(rows, 10);
 }
 
+// `kincal methods --options plan` prints the table the options are read by, defaults included.
+TEST(PlanCommand, MethodsPrintThePlansOptions) {
+  const auto r = RunKincal("methods --options plan");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* line : {"criterion", "'I'", "acceptance_angle", "tracker_position_m", "settle_time"}) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+}
+
 TEST(PlanCommand, BadInputExitsTwoWithOneLineAndWritesNothing) {
   TempDir dir;
   WriteText(dir.path("no_q6.csv"), "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg\n1,2,3,4,5\n");
