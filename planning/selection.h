@@ -18,8 +18,10 @@
 // Greedy forward selection: each step adds the candidate that improves the criterion most, from the
 // Woodbury identity (a rank-3 update per candidate: S = I + J C J^T; D gains log det S, A gains
 // trace(S^-1 J C C J^T), I gains trace(S^-1 J C W C J^T)), then updates C by it. This is the forward
-// half of Fedorov's exchange and Mitchell's DETMAX (Technometrics 16(2), 1974), the algorithm figaroh's
-// optimal/base_optimal_calibration.py follows for its D-optimal choice from a user's pool.
+// half of Fedorov's exchange and Mitchell's DETMAX (Technometrics 16(2), 1974), which figaroh's
+// optimal/base_optimal_calibration.py runs in full (its Detmax class, beside an SOCP relaxation) for its
+// D-optimal choice from a user's pool. The exchange half is left out on purpose: it improves each
+// criterion's own value but predicted held-out poses of a real arm worse (docs/planning.md).
 #include <string>
 #include <vector>
 
