@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   kincal::app::AddCompensateCommand(app);
   kincal::app::AddPredictCommand(app);
   kincal::app::AddIkCommand(app);
+  kincal::app::AddPlanCommand(app);
   kincal::app::AddFilterCommand(app);
   kincal::app::AddMethodsCommand(app);
   kincal::app::AddStudyCommand(app);

@@ -10,6 +10,7 @@
 #include "estimators/estimator.h"
 #include "framework/error.h"
 #include "models/model_factory.h"
+#include "planning/plan_options.h"
 #include "programs/filter.h"
 #include "robot/nominal_ik.h"
 
@@ -74,6 +75,11 @@ bool PrintToolOptions(const std::string& name) {
     PrintDocs(FilterOptions::Table().Docs());
     return true;
   }
+  if (name == "plan") {
+    std::cout << "plan (kincal plan --plan-options):\n";
+    PrintDocs(PlanOptions::Table().Docs());
+    return true;
+  }
   return false;
 }
 
@@ -83,7 +89,7 @@ void AddMethodsCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("methods", "list every model, estimator and compensator");
   auto options = std::make_shared<std::string>();
   cmd->add_option("--options", *options,
-                  "print the options of this estimator or compensator (or of the tools ik and filter): key, type, "
+                  "print the options of this estimator or compensator (or of the tools ik, filter and plan): key, type, "
                   "default, what it does");
   cmd->callback([options]() {
     if (!options->empty()) {

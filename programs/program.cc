@@ -28,11 +28,11 @@ std::string ProgramFormatFromExtension(const std::string& path) {
   std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == "mod" || ext == "prg" || ext == "modx") return "rapid";
-  if (ext == "dat") return "krl";
+  if (ext == "dat" || ext == "src") return "krl";
   if (ext == "script") return "urscript";
   if (ext == "csv") return "csv";
   throw std::invalid_argument(path + ": no program format for the extension '." + ext +
-                              "' (.mod .prg .modx, .dat, .script, .csv; or give --format)");
+                              "' (.mod .prg .modx, .dat .src, .script, .csv; or give --format)");
 }
 
 void LineAndColumn(const std::string& text, size_t offset, int* line, int* column) {

@@ -61,7 +61,7 @@ class ProgramFormat {
 
 // "rapid", "krl", "urscript", "csv"; throws std::invalid_argument for another name.
 std::unique_ptr<ProgramFormat> MakeProgramFormat(const std::string& name);
-// The format of a file by its extension (.mod .prg .modx: rapid; .dat: krl; .script: urscript; .csv: csv);
+// The format of a file by its extension (.mod .prg .modx: rapid; .dat .src: krl; .script: urscript; .csv: csv);
 // throws std::invalid_argument naming the extension otherwise.
 std::string ProgramFormatFromExtension(const std::string& path);
 
