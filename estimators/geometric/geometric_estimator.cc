@@ -247,6 +247,28 @@ nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double 
   return pairs;
 }
 
+// The markers' positions in the tool (several markers) and the sweeps' session base (another session's
+// frame), in the report's details.
+void AddMarkerAndSessionDetails(const geometric::SweepSet& sweeps, const geometric::GeometricSolution& solution,
+                                const Robot& identified, EstimationReport* report) {
+  const bool several = sweeps.markers.size() > 1;
+  if (several) {
+    nlohmann::json positions = nlohmann::json::object();
+    nlohmann::json from_arc = nlohmann::json::object();
+    for (size_t m = 0; m < sweeps.markers.size(); ++m) {
+      positions[sweeps.markers[m]] = Vec(identified.markers.at(sweeps.markers[m]));
+      from_arc[sweeps.markers[m]] = Vec(solution.p_tool_markers[m]);
+    }
+    report->details["markers_in_tool_m"] = positions;
+    report->details["markers_in_tool_from_last_arc_m"] = from_arc;
+  }
+  if (sweeps.session != 0) {
+    const Eigen::Isometry3d& T = solution.T_meas_base;
+    report->details["session_base"] = {
+        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
+  }
+}
+
 }  // namespace
 
 void GeometricEstimator::CheckStart(const Robot& start) const {
@@ -318,21 +340,7 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
         {"degrees_of_freedom", u.degrees_of_freedom},
         {"replicates", u.replicates},
         {"note", u.note}}}};
-  if (several) {
-    nlohmann::json positions = nlohmann::json::object();
-    nlohmann::json from_arc = nlohmann::json::object();
-    for (size_t m = 0; m < sweeps.markers.size(); ++m) {
-      positions[sweeps.markers[m]] = Vec(identified->markers.at(sweeps.markers[m]));
-      from_arc[sweeps.markers[m]] = Vec(solution.p_tool_markers[m]);
-    }
-    report->details["markers_in_tool_m"] = positions;
-    report->details["markers_in_tool_from_last_arc_m"] = from_arc;
-  }
-  if (sweeps.session != 0) {
-    const Eigen::Isometry3d& T = solution.T_meas_base;
-    report->details["session_base"] = {
-        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
-  }
+  AddMarkerAndSessionDetails(sweeps, solution, *identified, report);
   if (start.model().convention() != construction_start.model().convention()) {
     // Back to the start's convention, exactly (models/conversion.h); the parameters listed are the
     // construction's modified DH ones.
