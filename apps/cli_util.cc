@@ -9,18 +9,6 @@
 
 namespace kincal::app {
 
-std::vector<std::string> SplitComma(const std::string& text) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = text.find(',', start);
-    out.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 Eigen::VectorXd ParseList(const std::string& text, const Unit& unit, const std::string& what) {
   const std::vector<std::string> items = SplitComma(text);
   Eigen::VectorXd out(static_cast<Eigen::Index>(items.size()));

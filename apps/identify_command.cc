@@ -17,6 +17,7 @@
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/estimator.h"
 #include "estimators/selection/model_selection.h"
+#include "estimators/frames_only_options.h"
 #include "estimators/selection/selection_audit.h"
 #include "robot/prediction.h"
 #include "robot/robot_file.h"
@@ -24,44 +25,35 @@
 namespace kincal::app {
 namespace {
 
-// Options per method: a file keyed by method names, or (one method) that method's options directly.
-std::vector<YAML::Node> OptionsPerMethod(const YAML::Node& root, const std::vector<std::string>& methods,
-                                         const std::string& path) {
-  std::vector<YAML::Node> out(methods.size());
-  if (!root || root.IsNull()) return out;
-  if (!root.IsMap()) ThrowInputError(path, 1, 1, "expected a map of options");
-  bool keyed = true;
-  for (const auto& kv : root) {
-    if (std::find(methods.begin(), methods.end(), kv.first.Scalar()) == methods.end()) keyed = false;
-  }
-  if (!keyed && methods.size() > 1) {
-    ThrowInputError(path, 1, 1, "with several methods, the options file must be keyed by method name");
-  }
-  for (size_t i = 0; i < methods.size(); ++i) {
-    if (!keyed) {
-      out[i] = root;
-      continue;
-    }
-    // A method missing from the file gets no options (a null node): a const map's operator[] returns an
-    // invalid node for a missing key, which every later use of it throws on.
-    const YAML::Node n = root[methods[i]];
-    if (n.IsDefined()) out[i] = n;
-  }
-  return out;
-}
+// A warning line longer than this (a list of parameter names) is cut after a whole name, with a count.
+constexpr size_t kWarningChars = 240;
 
 nlohmann::json StatsJson(const ErrorStats& s, double scale) {
   return {{"count", s.count}, {"mean", s.mean * scale}, {"rms", s.rms * scale}, {"max", s.max * scale}};
+}
+
+// A stage's summary, warnings (a long one shortened: the report has it whole), selection table and
+// model inadequacy, on stdout.
+void PrintStage(const EstimationReport& r, const std::string& report_path) {
+  std::cout << r.BriefReport() << "\n";
+  for (const auto& w : r.warnings) {
+    std::cout << "  warning: "
+              << ShortLine(w, kWarningChars,
+                           report_path.empty() ? " (--report R.json lists them all)" : " (all in " + report_path + ")")
+              << "\n";
+  }
+  if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
+  if (r.details.contains("prediction_covariance")) {  // the model-inadequacy part of the predicted sd
+    std::cout << "  " << InadequacySummary(PredictionCovariance::FromJson(r.details["prediction_covariance"]))
+              << "\n";
+  }
 }
 
 // The nominal geometry with only the frames fitted to `train` (base, session bases, tool, markers), as
 // the studies' "before" (studies/evaluation.cc): least_squares with every joint row, the joint errors and
 // the ratios held. The nominal itself when that fit fails.
 Robot RegisteredNominal(const Robot& nominal, const Dataset& train) {
-  YAML::Node options;
-  for (int j = 1; j <= nominal.dof(); ++j) options["fixed"].push_back("joint_" + std::to_string(j));
-  if (!nominal.joint_errors.terms.empty()) options["fixed"].push_back("joint_errors");
-  options["identify_ratios"] = false;
+  const YAML::Node options = FramesOnlyOptions(nominal);
   Robot registered;
   try {
     const EstimationReport r = Estimators().Create("least_squares", options)->Estimate(nominal, train, &registered);
@@ -201,13 +193,7 @@ void AddIdentifyCommand(CLI::App& app) {
     nlohmann::json json;
     json["stages"] = nlohmann::json::array();
     for (const auto& r : reports) {
-      std::cout << r.BriefReport() << "\n";
-      for (const auto& w : r.warnings) std::cout << "  warning: " << w << "\n";
-      if (r.details.contains("selection")) std::cout << SelectionTable(r.details["selection"]);
-      if (r.details.contains("prediction_covariance")) {  // the model-inadequacy part of the predicted sd
-        std::cout << "  "
-                  << InadequacySummary(PredictionCovariance::FromJson(r.details["prediction_covariance"])) << "\n";
-      }
+      PrintStage(r, a->report);
       json["stages"].push_back(r.ToJson());
     }
     if (have_heldout) json["validation"] = Validate(nominal, identified, train, heldout, reports.back());

@@ -10,10 +10,22 @@
 #include "apps/cli_util.h"
 #include "apps/commands.h"
 #include "framework/error.h"
+#include "framework/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"kincal: kinematic calibration of serial robot arms"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "kincal " KINCAL_VERSION_STRING);
+  app.footer(
+      "Datasets (CSV, one row per measured marker, in measurement order; '#' lines are comments):\n"
+      "  q1_deg..qN_deg (or _rad; _mm/_m for prismatic joints)  commanded joint angles\n"
+      "  x_mm,y_mm,z_mm (or _m)  measured position      qw,qx,qy,qz  measured orientation (optional)\n"
+      "  optional: enc1..encN (encoder counts), sweep (joint swept, CPA), marker (reflector name),\n"
+      "  session (instrument set-up), split (train|test), from_q1_deg..from_qN_deg (the pose before)\n"
+      "Groups that an estimator's `fixed:` option holds (besides single parameter names):\n"
+      "  base, tool, ratios, markers, sessions, joint_<i> (row i of the model), joint_errors,\n"
+      "  gravity, harmonic, backlash, approach, or one type on one joint (gravity_2, approach_5)\n"
+      "kincal methods --options NAME lists a method's options. Guide: docs/guide/README.md");
   kincal::app::AddFkCommand(app);
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
@@ -39,6 +51,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "kincal: " << e.what() << " (see kincal --help)\n";

@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include "framework/error.h"
+#include "framework/method_options.h"
 #include "compensators/compensator.h"
 #include "compensators/program.h"
 #include "estimators/estimator.h"
@@ -24,34 +25,11 @@
 namespace kincal::python {
 namespace {
 
-std::vector<std::string> SplitComma(const std::string& text) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = text.find(',', start);
-    out.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
-}
-
-// Options per method, as `kincal identify --options` reads them: keyed by method name, or (one method)
-// that method's options directly.
-std::vector<YAML::Node> OptionsPerMethod(const py::object& options, const std::vector<std::string>& methods) {
-  std::vector<YAML::Node> out(methods.size());
-  if (options.is_none()) return out;
+// Options per method, as `kincal identify --options` reads them (framework/method_options.h).
+std::vector<YAML::Node> MethodOptionsFromDict(const py::object& options, const std::vector<std::string>& methods) {
+  if (options.is_none()) return std::vector<YAML::Node>(methods.size());
   if (!py::isinstance<py::dict>(options)) throw std::invalid_argument("options: expected a dict");
-  const py::dict dict = options.cast<py::dict>();
-  bool keyed = dict.size() > 0;
-  for (const auto& kv : dict) {
-    if (std::find(methods.begin(), methods.end(), py::str(kv.first).cast<std::string>()) == methods.end())
-      keyed = false;
-  }
-  if (!keyed && methods.size() > 1) {
-    throw std::invalid_argument("options: with several methods, the options must be keyed by method name");
-  }
-  for (size_t i = 0; i < methods.size(); ++i) out[i] = ToYaml(keyed ? dict[py::str(methods[i])] : dict);
-  return out;
+  return kincal::OptionsPerMethod(ToYaml(options), methods, "options", 0);
 }
 
 py::dict Stats(const ErrorStats& s) {
@@ -110,7 +88,7 @@ Dataset SimulateFrom(const Robot& nominal, const Robot& truth, const std::string
 py::tuple Identify(const Robot& nominal, const Dataset& data, const std::string& method, const py::object& options) {
   const std::vector<std::string> methods = SplitComma(method);
   for (const auto& name : methods) Estimators().Get(name);  // unknown names fail before any work
-  const std::vector<YAML::Node> per_method = OptionsPerMethod(options, methods);
+  const std::vector<YAML::Node> per_method = MethodOptionsFromDict(options, methods);
   data.Validate(nominal.dof());
   Robot identified;
   std::vector<EstimationReport> reports;

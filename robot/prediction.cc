@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "framework/median.h"
 
 namespace kincal {
 
@@ -38,8 +41,7 @@ ErrorStats Summarize(std::vector<double> errors) {
   }
   s.mean = sum / s.count;
   s.rms = std::sqrt(sum2 / s.count);
-  std::sort(errors.begin(), errors.end());
-  s.median = s.count % 2 ? errors[s.count / 2] : 0.5 * (errors[s.count / 2 - 1] + errors[s.count / 2]);
+  s.median = Median(std::move(errors));
   return s;
 }
 

@@ -29,10 +29,37 @@ Eigen::Vector3d PerpendicularNear(const Eigen::Vector3d& z, const Eigen::Vector3
   return v.normalized();
 }
 
+// The parallel-axes convention (common_normals.h) for axes i (through `origin`, direction Z) and `next`:
+// X_i, the line axis i+1 is held as, and the tilt dropped or kept in *pair.
+AxisLine ParallelNormal(const Eigen::Vector3d& origin, const Eigen::Vector3d& Z, const AxisLine& next, double a_nominal,
+                        const Eigen::Vector3d& expected, bool keep_tilt, Eigen::Vector3d* X, JointPair* pair) {
+  const Eigen::Vector3d Zn = next.direction.normalized();
+  // On axis i+1: where it crosses the plane through the origin perpendicular to Z_i (keep_tilt), or its
+  // point nearest the origin.
+  const Eigen::Vector3d nearest = keep_tilt
+                                      ? Eigen::Vector3d(next.point + ((origin - next.point).dot(Z) / Zn.dot(Z)) * Zn)
+                                      : Eigen::Vector3d(next.point + (origin - next.point).dot(Zn) * Zn);
+  const Eigen::Vector3d v = nearest - origin;
+  const Eigen::Vector3d v_perp = v - v.dot(Z) * Z;
+  if (std::abs(a_nominal) > 1e-12 && v_perp.norm() > 0.0) {
+    *X = (a_nominal > 0.0 ? 1.0 : -1.0) * v_perp.normalized();
+  } else {
+    *X = expected;  // nominally coaxial: the nominal theta decides the direction
+  }
+  const double tilt = std::clamp(Zn.dot(*X), -1.0, 1.0);
+  if (keep_tilt) {
+    pair->kept_tilt = std::asin(tilt);
+    return {nearest, Zn};
+  }
+  pair->dropped_tilt = std::asin(tilt);
+  return {origin + v.dot(*X) * *X, (Zn - tilt * *X).normalized()};
+}
+
 }  // namespace
 
 AxisFrames FramesFromAxes(const std::vector<AxisLine>& axes, const std::vector<MdhRow>& nominal,
-                          const Eigen::VectorXd& q_cal, const Eigen::Vector3d& x1_hint, double parallel_threshold) {
+                          const Eigen::VectorXd& q_cal, const Eigen::Vector3d& x1_hint, double parallel_threshold,
+                          bool keep_tilt) {
   const int n = static_cast<int>(axes.size());
   if (n < 1 || static_cast<int>(nominal.size()) != n || q_cal.size() != n) {
     throw std::invalid_argument("frames from axes: axes, nominal rows and joint angles differ in count");
@@ -86,18 +113,7 @@ AxisFrames FramesFromAxes(const std::vector<AxisLine>& axes, const std::vector<M
       pair.parallel = true;
       origin = i == 1 ? Eigen::Vector3d(axis.point + (next.point - axis.point).dot(Z) * Z)
                       : Eigen::Vector3d(foot + nominal[i - 1].d * Z);
-      const Eigen::Vector3d nearest = next.point + (origin - next.point).dot(Zn) * Zn;  // on axis i+1
-      const Eigen::Vector3d v = nearest - origin;
-      const Eigen::Vector3d v_perp = v - v.dot(Z) * Z;
-      const double a_nominal = nominal[i].a;
-      if (std::abs(a_nominal) > 1e-12 && v_perp.norm() > 0.0) {
-        X = (a_nominal > 0.0 ? 1.0 : -1.0) * v_perp.normalized();
-      } else {
-        X = expected;  // nominally coaxial: the nominal theta decides the direction
-      }
-      const double tilt = std::clamp(Zn.dot(X), -1.0, 1.0);
-      pair.dropped_tilt = std::asin(tilt);
-      held_next = {origin + v.dot(X) * X, (Zn - tilt * X).normalized()};
+      held_next = ParallelNormal(origin, Z, next, nominal[i].a, expected, keep_tilt, &X, &pair);
     }
     out.frames[i - 1] = Frame(origin, X, Z);
     out.pairs.push_back(pair);

@@ -20,6 +20,9 @@
 // there perpendicularly toward axis i+1 (made perpendicular to Z_i). Axis i+1 is then replaced by the
 // line MDH can hold: through the normal's far end, its direction without the component along X_i; the
 // dropped tilt is reported (it costs about tilt x distance along the axis at the marker).
+// With keep_tilt (a Hayati robot, whose beta_{i+1} is that tilt), axis i+1 stays as fitted: the normal
+// runs from the origin, perpendicular to Z_i, to where axis i+1 crosses that plane (HayatiRowFromFrames
+// then reads alpha, a, beta, theta and d of row i+1 exactly).
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -38,6 +41,7 @@ struct JointPair {
   double angle = 0.0;         // angle between the two axes as lines, [0, pi/2], rad
   bool parallel = false;      // below the threshold: the convention above was used
   double dropped_tilt = 0.0;  // parallel pairs: tilt of axis joint+1 about y_joint that MDH cannot hold, rad
+  double kept_tilt = 0.0;     // parallel pairs with keep_tilt: that tilt, held by the frames instead, rad
 };
 
 struct AxisFrames {
@@ -50,6 +54,7 @@ struct AxisFrames {
 // of the calibration configuration; `x1_hint`: a direction for X_1 when nothing else decides it (the
 // nominal model's x_1 there). Never produces NaN for unit axis directions.
 AxisFrames FramesFromAxes(const std::vector<AxisLine>& axes, const std::vector<MdhRow>& nominal,
-                          const Eigen::VectorXd& q_cal, const Eigen::Vector3d& x1_hint, double parallel_threshold);
+                          const Eigen::VectorXd& q_cal, const Eigen::Vector3d& x1_hint, double parallel_threshold,
+                          bool keep_tilt = false);
 
 }  // namespace kincal::geometric

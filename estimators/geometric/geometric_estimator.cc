@@ -97,16 +97,17 @@ void MarkersFromStops(const Robot& controller, const Dataset& data, const std::v
 
 namespace {
 
-// The start robot in modified DH, the convention the construction builds (models/conversion.h: exact
-// for every convention a robot file can have). Revolute joints only.
-Robot MdhStart(const Robot& start) {
+// The start robot in a convention the construction builds: modified DH (models/conversion.h: exact for
+// every convention a robot file can have), or Hayati's as it is, whose beta keeps the tilt of a nearly
+// parallel axis that MDH would drop. Revolute joints only.
+Robot ConstructionStart(const Robot& start) {
   for (int i = 0; i < start.dof(); ++i) {
     if (start.model().joint_type(i) != JointType::kRevolute) {
       throw std::invalid_argument("geometric: joint " + std::to_string(i + 1) +
                                   " is prismatic; circle point analysis needs revolute joints");
     }
   }
-  if (start.model().convention() == "mdh") return start;
+  if (start.model().convention() == "mdh" || start.model().convention() == "hayati") return start;
   return start.WithModel(ConvertModel(start.model(), "mdh"));
 }
 
@@ -131,27 +132,25 @@ geometric::Uncertainty StandardDeviations(const GeometricEstimator::Options& opt
   const geometric::ArcSolveFunction solve = [&](const std::vector<ArcFit>& f) {
     return geometric::SolveGeometry(problem, f).parameters;
   };
-  geometric::Uncertainty u;
-  if (options.stddev == "propagation") {
-    u = geometric::PropagateStopNoise(sweeps, joints, options.arc, fits, is_angle, solve);
-  } else if (options.stddev == "bootstrap") {
-    u = geometric::BootstrapStops(sweeps, joints, options.arc, fits, is_angle, solve, options.bootstrap_samples,
-                                  static_cast<uint64_t>(options.bootstrap_seed));
-  } else {
-    u.method = "none";
-    u.stddev = Eigen::VectorXd::Constant(model.num_parameters(), NAN);
-  }
-  return u;
+  return geometric::StopUncertainty(options.stddev, sweeps, joints, options.arc, fits, is_angle, solve,
+                                    options.bootstrap_samples, static_cast<uint64_t>(options.bootstrap_seed));
 }
 
 // Every MDH parameter with its standard deviation, those held by construction (geometric_solver.h) noted.
-void ReportParameters(const Robot& mdh_start, const KinematicModel& model, const geometric::Uncertainty& u,
-                      const geometric::SweepSet& sweeps, EstimationReport* report) {
+void ReportParameters(const Robot& construction_start, const KinematicModel& model, const geometric::Uncertainty& u,
+                      const geometric::SweepSet& sweeps, const std::vector<geometric::JointPair>& pairs,
+                      EstimationReport* report) {
   const bool several = sweeps.markers.size() > 1;
   const std::string last = std::to_string(model.dof());
   const auto held_note = [&](const std::string& name) -> std::string {
-    if (name == "alpha_1" || name == "a_1" || name == "theta_1" || name == "d_1") {
+    if (name == "alpha_1" || name == "a_1" || name == "theta_1" || name == "d_1" || name == "beta_1") {
       return "held at the start value: redundant with the base";
+    }
+    // Hayati's beta_i is free where axes i-1 and i are parallel (pair i-2): elsewhere the common normal
+    // makes it zero (it would duplicate d and theta of the row before).
+    if (name.rfind("beta_", 0) == 0 && !pairs.at(std::stoul(name.substr(5)) - 2).parallel) {
+      return "zero by construction: axes " + std::to_string(std::stoi(name.substr(5)) - 1) + " and " +
+             name.substr(5) + " are not parallel";
     }
     if (name == "d_" + last || name == "theta_" + last) return "held at the start value: redundant with the tool";
     if (several && (name == "tool_x" || name == "tool_y" || name == "tool_z")) {
@@ -166,7 +165,7 @@ void ReportParameters(const Robot& mdh_start, const KinematicModel& model, const
     return "";
   };
   const auto& info = model.parameter_info();
-  const Eigen::VectorXd& start_values = mdh_start.model().Parameters();
+  const Eigen::VectorXd& start_values = construction_start.model().Parameters();
   for (int k = 0; k < model.num_parameters(); ++k) {
     ParameterEstimate p;
     p.name = info[k].name;
@@ -224,16 +223,17 @@ bool ReportAxes(const geometric::SweepSet& sweeps, const std::vector<ArcFit>& fi
   return all_converged;
 }
 
-// Details of each pair of consecutive axes; a warning for each parallel pair.
-nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double parallel_threshold,
+// Details of each pair of consecutive axes; a warning for each parallel pair whose tilt MDH dropped.
+nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double parallel_threshold, bool keep_tilt,
                            EstimationReport* report) {
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& pr : solution.frames.pairs) {
     pairs.push_back({{"joints", {pr.joint, pr.joint + 1}},
                      {"angle_deg", pr.angle * kDeg},
                      {"parallel", pr.parallel},
-                     {"dropped_tilt_deg", pr.dropped_tilt * kDeg}});
-    if (pr.parallel) {
+                     {"dropped_tilt_deg", pr.dropped_tilt * kDeg},
+                     {"kept_tilt_deg", pr.kept_tilt * kDeg}});
+    if (pr.parallel && !keep_tilt) {
       char text[400];
       std::snprintf(text, sizeof(text),
                     "axes %d and %d are parallel within %.4g deg (parallel_threshold %.4g deg): the common normal "
@@ -247,11 +247,35 @@ nlohmann::json ReportPairs(const geometric::GeometricSolution& solution, double 
   return pairs;
 }
 
+// The markers' positions in the tool (several markers) and the sweeps' session base (another session's
+// frame), in the report's details.
+void AddMarkerAndSessionDetails(const geometric::SweepSet& sweeps, const geometric::GeometricSolution& solution,
+                                const Robot& identified, EstimationReport* report) {
+  const bool several = sweeps.markers.size() > 1;
+  if (several) {
+    nlohmann::json positions = nlohmann::json::object();
+    nlohmann::json from_arc = nlohmann::json::object();
+    for (size_t m = 0; m < sweeps.markers.size(); ++m) {
+      positions[sweeps.markers[m]] = Vec(identified.markers.at(sweeps.markers[m]));
+      from_arc[sweeps.markers[m]] = Vec(solution.p_tool_markers[m]);
+    }
+    report->details["markers_in_tool_m"] = positions;
+    report->details["markers_in_tool_from_last_arc_m"] = from_arc;
+  }
+  if (sweeps.session != 0) {
+    const Eigen::Isometry3d& T = solution.T_meas_base;
+    report->details["session_base"] = {
+        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
+  }
+}
+
 }  // namespace
 
 void GeometricEstimator::CheckStart(const Robot& start) const {
-  const Robot mdh = MdhStart(start);
-  if (start.model().convention() != "mdh") ConvertModel(mdh.model(), start.model().convention());
+  const Robot built = ConstructionStart(start);
+  if (built.model().convention() != start.model().convention()) {
+    ConvertModel(built.model(), start.model().convention());
+  }
 }
 
 void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
@@ -259,21 +283,21 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + OneLine(why));
   const int n = start.dof();
-  const Robot mdh_start = MdhStart(start);
+  const Robot construction_start = ConstructionStart(start);
   const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric",
                                                               /*several_markers=*/true);
   const bool several = sweeps.markers.size() > 1;
   const std::vector<int> joints = SweptJoints(sweeps, n, data);
   const std::vector<ArcFit> fits = FitSweeps(sweeps, joints, options_.arc, "geometric", data.source);
   geometric::GeometricProblem problem =
-      geometric::GeometricProblem::Make(mdh_start, sweeps, options_.parallel_threshold);
+      geometric::GeometricProblem::Make(construction_start, sweeps, options_.parallel_threshold);
   problem.angles_from_readings =
       options_.joint_angles == "readings" || (options_.joint_angles == "auto" && !start.drives.has_value());
   const bool markers_from_stops = several && (options_.markers_from == "stops" ||
                                               (options_.markers_from == "auto" && problem.angles_from_readings));
   const geometric::GeometricSolution solution = geometric::SolveGeometry(problem, fits);
 
-  *identified = mdh_start;
+  *identified = construction_start;
   KinematicModel& model = identified->model();
   model.SetParameters(solution.parameters);
   if (several) {
@@ -284,15 +308,15 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
   if (sweeps.session != 0) {
     // The sweeps were measured in another session's frame: the base found is that session's.
     identified->session_bases[sweeps.session] = solution.T_meas_base;
-    model.SetBase(mdh_start.model().base());
+    model.SetBase(construction_start.model().base());
   }
 
   const geometric::Uncertainty u = StandardDeviations(options_, sweeps, joints, fits, problem, model);
   if (!u.note.empty()) report->warnings.push_back("standard deviations: " + u.note);
-  ReportParameters(mdh_start, model, u, sweeps, report);
+  ReportParameters(construction_start, model, u, sweeps, solution.frames.pairs, report);
   nlohmann::json axes;
   const bool all_converged = ReportAxes(sweeps, fits, problem, solution, report, &axes);
-  const nlohmann::json pairs = ReportPairs(solution, options_.parallel_threshold, report);
+  const nlohmann::json pairs = ReportPairs(solution, options_.parallel_threshold, problem.keep_tilt, report);
   std::vector<int> order = sweeps.order;
   report->details = {
       {"circle_fit", geometric::ToString(options_.arc.circle_fit)},
@@ -316,22 +340,8 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
         {"degrees_of_freedom", u.degrees_of_freedom},
         {"replicates", u.replicates},
         {"note", u.note}}}};
-  if (several) {
-    nlohmann::json positions = nlohmann::json::object();
-    nlohmann::json from_arc = nlohmann::json::object();
-    for (size_t m = 0; m < sweeps.markers.size(); ++m) {
-      positions[sweeps.markers[m]] = Vec(identified->markers.at(sweeps.markers[m]));
-      from_arc[sweeps.markers[m]] = Vec(solution.p_tool_markers[m]);
-    }
-    report->details["markers_in_tool_m"] = positions;
-    report->details["markers_in_tool_from_last_arc_m"] = from_arc;
-  }
-  if (sweeps.session != 0) {
-    const Eigen::Isometry3d& T = solution.T_meas_base;
-    report->details["session_base"] = {
-        {"session", sweeps.session}, {"xyz_m", Vec(T.translation())}, {"rpy_rad", Vec(RpyFromRotation(T.linear()))}};
-  }
-  if (start.model().convention() != "mdh") {
+  AddMarkerAndSessionDetails(sweeps, solution, *identified, report);
+  if (start.model().convention() != construction_start.model().convention()) {
     // Back to the start's convention, exactly (models/conversion.h); the parameters listed are the
     // construction's modified DH ones.
     *identified = identified->WithModel(ConvertModel(identified->model(), start.model().convention()));

@@ -7,11 +7,14 @@
 // Input: a dataset with a `sweep` column, every joint swept at least 3 stops (sweeps.h explains the
 // calibration configuration and the order of sweeps). The start robot may be in any convention (mdh,
 // dh, hayati, poe, urdf): it is converted exactly to MDH for the construction (models/conversion.h), and
-// the result converted exactly back to the start's convention; revolute joints only.
+// the result converted exactly back to the start's convention; revolute joints only. A Hayati start is
+// built in Hayati's own rows: where two consecutive axes are parallel, beta holds the tilt of the second
+// about y of the first, which MDH drops (common_normals.h); elsewhere beta is zero.
 // Output: a complete robot (the MDH construction's): table, base = T_meas_frame0, tool = the marker's position in the
 // last frame (several markers: the tool is kept and every marker's position in it identified); drives unchanged (the
 // ratio_regression stage identifies them). The report lists the fitted axes (point, direction), each fit's residual
-// RMS, every parameter with a standard deviation (uncertainty.h), the parallel pairs met (each also a warning) and the
+// RMS, every parameter with a standard deviation (uncertainty.h), the parallel pairs met (each a warning when MDH
+// drops its tilt) and the
 // parameters held because they are redundant with the base or the tool. The start robot's free mask is not used: the
 // construction determines every parameter the sweeps can show, and holds the rest at the start values.
 #include <cstdint>
@@ -77,7 +80,7 @@ class GeometricEstimator final : public Estimator {
   GeometricEstimator() : GeometricEstimator(Options()) {}
   explicit GeometricEstimator(const Options& options) : options_(options) {}
   std::string name() const override { return "geometric"; }
-  // Revolute joints, and a conversion to modified DH (exact) and back.
+  // Revolute joints, and a conversion to modified DH (exact) and back (Hayati: none needed).
   void CheckStart(const Robot& start) const override;
 
  private:

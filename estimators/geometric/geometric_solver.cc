@@ -27,16 +27,21 @@ std::string Row(const char* key, int i) { return std::string(key) + "_" + std::t
 
 GeometricProblem GeometricProblem::Make(const Robot& mdh_start, const SweepSet& sweeps, double parallel_threshold) {
   const KinematicModel& model = mdh_start.model();
-  if (model.convention() != "mdh") throw std::logic_error("GeometricProblem: the start robot must be MDH");
+  const bool hayati = model.convention() == "hayati";
+  if (model.convention() != "mdh" && !hayati) {
+    throw std::logic_error("GeometricProblem: the start robot must be MDH or Hayati");
+  }
   const int n = model.dof();
   GeometricProblem p;
   p.start = mdh_start;
   p.x_cal = sweeps.x_cal;
   p.parallel_threshold = parallel_threshold;
+  p.keep_tilt = hayati;
   for (int i = 1; i <= n; ++i) {
     p.moved.push_back(sweeps.sweeps[i - 1].moved);
     p.nominal.push_back({model.Parameter(Row("alpha", i)), model.Parameter(Row("a", i)),
-                         model.Parameter(Row("theta", i)), model.Parameter(Row("d", i))});
+                         model.Parameter(Row("theta", i)), model.Parameter(Row("d", i)),
+                         hayati ? model.Parameter(Row("beta", i)) : 0.0});
   }
   p.x1_hint = model.FramePoses(sweeps.x_cal)[1].linear().col(0);
   p.p_tool_marker = mdh_start.MarkerPosition(sweeps.marker);
@@ -73,14 +78,17 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
   // The actual joint angles of the calibration configuration, measured on each joint's arc.
   sol.q_cal.resize(n);
   for (int i = 0; i < n; ++i) sol.q_cal[i] = Slope(problem, fits, i) * problem.x_cal[i];
-  sol.frames = FramesFromAxes(sol.axes, problem.nominal, sol.q_cal, problem.x1_hint, problem.parallel_threshold);
+  sol.frames = FramesFromAxes(sol.axes, problem.nominal, sol.q_cal, problem.x1_hint, problem.parallel_threshold,
+                              problem.keep_tilt);
   const std::vector<Eigen::Isometry3d>& F = sol.frames.frames;
 
   sol.rows.resize(n);
   sol.rows[0] = problem.nominal[0];
   sol.T_meas_base = F[0] * MdhTransform(sol.rows[0], sol.q_cal[0]).inverse();
   for (int i = 2; i <= n; ++i) {
-    MdhRow row = MdhRowFromFrames(F[i - 2], F[i - 1], sol.q_cal[i - 1]);
+    MdhRow row = problem.keep_tilt && sol.frames.pairs[i - 2].parallel
+                     ? HayatiRowFromFrames(F[i - 2], F[i - 1], sol.q_cal[i - 1])
+                     : MdhRowFromFrames(F[i - 2], F[i - 1], sol.q_cal[i - 1]);
     // Report theta on the nominal's side of the circle (90.4 deg, not -269.6).
     row.theta = problem.nominal[i - 1].theta + WrapAngle(row.theta - problem.nominal[i - 1].theta);
     sol.rows[i - 1] = row;
@@ -96,6 +104,7 @@ GeometricSolution SolveGeometry(const GeometricProblem& problem, const std::vect
     v[model->ParameterIndex(Row("a", i))] = sol.rows[i - 1].a;
     v[model->ParameterIndex(Row("theta", i))] = sol.rows[i - 1].theta;
     v[model->ParameterIndex(Row("d", i))] = sol.rows[i - 1].d;
+    if (problem.keep_tilt) v[model->ParameterIndex(Row("beta", i))] = sol.rows[i - 1].beta;
   }
   model->SetParameters(v);
   model->SetBase(sol.T_meas_base);

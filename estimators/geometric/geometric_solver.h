@@ -1,5 +1,5 @@
 #pragma once
-// From the fitted arcs to a complete MDH robot (METHOD.md 2): axes at the calibration configuration,
+// From the fitted arcs to a complete MDH (or Hayati) robot (METHOD.md 2): axes at the calibration configuration,
 // frames by common normals, the MDH table (eqs. 4-7), base and tool.
 //
 // Axes at one configuration. Frames are built from axes that must all be where they were at the
@@ -37,7 +37,7 @@
 namespace kincal::geometric {
 
 struct GeometricProblem {
-  Robot start;            // the start robot, modified DH (models/conversion.h)
+  Robot start;            // the start robot, modified DH (models/conversion.h) or Hayati
   Eigen::VectorXd x_cal;  // joint angles of the calibration configuration (start drives)
   std::vector<std::vector<std::pair<int, double>>> moved;   // per joint: Sweep::moved
   std::vector<MdhRow> nominal;                              // the start robot's MDH rows
@@ -48,8 +48,10 @@ struct GeometricProblem {
   // q_cal and the turns back use them instead of angle_slope x drive variable.
   bool angles_from_readings = false;
   double parallel_threshold = 1.0 * M_PI / 180.0;
+  // A Hayati start: the rows after parallel pairs keep the tilt of their axis in beta (common_normals.h).
+  bool keep_tilt = false;
 
-  // Everything above from the sweeps and the start robot (which must be MDH).
+  // Everything above from the sweeps and the start robot (which must be MDH or Hayati).
   static GeometricProblem Make(const Robot& mdh_start, const SweepSet& sweeps, double parallel_threshold);
 };
 

@@ -14,11 +14,19 @@ namespace kincal::geometric {
 
 struct MdhRow {
   double alpha = 0.0, a = 0.0, theta = 0.0, d = 0.0;  // rad, m
+  // Hayati's tilt about y after Rx(alpha) (models/hayati_model.h: Dx(a) Rx(alpha) Ry(beta) Dz(d) Rz(theta));
+  // 0 in modified DH, whose rows are Hayati's with beta = 0.
+  double beta = 0.0;
 };
 
 // Row i from frame i-1 and frame i (poses in one common frame) at joint angle q_i. theta in (-pi, pi].
 MdhRow MdhRowFromFrames(const Eigen::Isometry3d& T_meas_prev, const Eigen::Isometry3d& T_meas_frame, double q);
-// T_{i-1}^{i}(q) of a row.
+// Row i in Hayati's convention, for frames whose z axes are nearly parallel: alpha and beta from the
+// direction of Z_i in frame i-1 (Rx(alpha) Ry(beta) e_z), theta from the rest of the rotation, a and d
+// from O_i - O_{i-1} = a X_{i-1} + d Z_i (exact when O_{i-1} + a X_{i-1} is on axis i, as
+// FramesFromAxes places it when it keeps the tilt).
+MdhRow HayatiRowFromFrames(const Eigen::Isometry3d& T_meas_prev, const Eigen::Isometry3d& T_meas_frame, double q);
+// T_{i-1}^{i}(q) of a row (beta included).
 Eigen::Isometry3d MdhTransform(const MdhRow& row, double q);
 
 }  // namespace kincal::geometric

@@ -113,4 +113,16 @@ Uncertainty BootstrapStops(const SweepSet& sweeps, const std::vector<int>& joint
   return u;
 }
 
+Uncertainty StopUncertainty(const std::string& method, const SweepSet& sweeps, const std::vector<int>& joints,
+                            const ArcFitOptions& options, const std::vector<ArcFit>& fits,
+                            const std::vector<bool>& is_angle, const ArcSolveFunction& solve, int samples,
+                            uint64_t seed) {
+  if (method == "propagation") return PropagateStopNoise(sweeps, joints, options, fits, is_angle, solve);
+  if (method == "bootstrap") return BootstrapStops(sweeps, joints, options, fits, is_angle, solve, samples, seed);
+  Uncertainty u;
+  u.method = "none";
+  u.stddev = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(is_angle.size()), NAN);
+  return u;
+}
+
 }  // namespace kincal::geometric

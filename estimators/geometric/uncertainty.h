@@ -45,5 +45,11 @@ Uncertainty PropagateStopNoise(const SweepSet& sweeps, const std::vector<int>& j
 Uncertainty BootstrapStops(const SweepSet& sweeps, const std::vector<int>& joints, const ArcFitOptions& options,
                            const std::vector<ArcFit>& fits, const std::vector<bool>& is_angle,
                            const ArcSolveFunction& solve, int samples, uint64_t seed);
+// The one `method` names ("propagation", "bootstrap", or "none": NaN for each of is_angle's quantities),
+// as the options of geometric and ratio_regression choose it.
+Uncertainty StopUncertainty(const std::string& method, const SweepSet& sweeps, const std::vector<int>& joints,
+                            const ArcFitOptions& options, const std::vector<ArcFit>& fits,
+                            const std::vector<bool>& is_angle, const ArcSolveFunction& solve, int samples,
+                            uint64_t seed);
 
 }  // namespace kincal::geometric

@@ -71,16 +71,9 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
   };
   const Eigen::VectorXd K = solve(fits);
   const std::vector<bool> is_angle(joints.size(), false);
-  geometric::Uncertainty u;
-  if (options_.stddev == "propagation") {
-    u = geometric::PropagateStopNoise(sweeps, joints, options_.arc, fits, is_angle, solve);
-  } else if (options_.stddev == "bootstrap") {
-    u = geometric::BootstrapStops(sweeps, joints, options_.arc, fits, is_angle, solve, options_.bootstrap_samples,
-                                  static_cast<uint64_t>(options_.bootstrap_seed));
-  } else {
-    u.method = "none";
-    u.stddev = Eigen::VectorXd::Constant(K.size(), NAN);
-  }
+  const geometric::Uncertainty u =
+      geometric::StopUncertainty(options_.stddev, sweeps, joints, options_.arc, fits, is_angle, solve,
+                                 options_.bootstrap_samples, static_cast<uint64_t>(options_.bootstrap_seed));
   if (!u.note.empty()) report->warnings.push_back("standard deviations: " + u.note);
 
   *identified = start;

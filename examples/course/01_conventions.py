@@ -8,15 +8,15 @@ d = a_2 / tan(beta) (431.8 mm / tan(1 deg) = 24.7 m). A calibration in MDH would
 
     python3 01_conventions.py [OUT_DIR]       # writes OUT_DIR/01_conventions.png; KINCAL_CLI: the program
 """
+from course_env import cli as course_env_cli, kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import os, pathlib, subprocess, sys, tempfile
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 root = pathlib.Path(__file__).resolve().parents[2]
-cli = os.environ.get("KINCAL_CLI", str(root / "build" / "apps" / "kincal"))
+cli = course_env_cli()
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 work = pathlib.Path(tempfile.mkdtemp())
 

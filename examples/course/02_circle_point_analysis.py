@@ -8,12 +8,12 @@ against 12 stops 10 degrees apart (110 degrees), with a 0.1 mm tracker (the seed
 
     python3 02_circle_point_analysis.py [OUT_DIR]     # writes OUT_DIR/02_circle_point_analysis.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -8,12 +8,12 @@ the angle, 0.2 deg at 90 deg, which no DH parameter can absorb: millimetres at t
 
     python3 03_reduction_ratios.py [OUT_DIR]          # writes OUT_DIR/03_reduction_ratios.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

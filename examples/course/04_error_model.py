@@ -9,12 +9,12 @@ compare the seed's sweeps (120 poses, one joint at a time) with 120 random poses
 
     python3 04_error_model.py [OUT_DIR]               # writes OUT_DIR/04_error_model.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -7,12 +7,12 @@ parameters and the same residual; what differs is how many iterations (and evalu
 
     python3 05_four_solvers.py [OUT_DIR]              # writes OUT_DIR/05_four_solvers.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys, time
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -14,12 +14,12 @@ and 5: Newton's iterations still get there, 3 fixed steps from the controller's 
 
     python3 06_compensation.py [OUT_DIR]              # writes OUT_DIR/06_compensation.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys, time
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -8,12 +8,12 @@ each parameter over the runs compared with what one run reports.
 
     python3 07_cramer_rao.py [OUT_DIR]                # writes OUT_DIR/07_cramer_rao.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

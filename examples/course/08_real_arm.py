@@ -9,12 +9,12 @@ the pose). A real arm is not its geometry: the last two terms cut the held-out e
     python3 08_real_arm.py [OUT_DIR] [DATA_DIR]       # writes OUT_DIR/08_real_arm.png
 Without the data folder the program says "skipped:" and why, and exits with status 0.
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 default = pathlib.Path(__file__).resolve().parents[3] / "shared" / "data" / "irb120_faro"

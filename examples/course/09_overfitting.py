@@ -11,12 +11,12 @@ estimators' `select: true` does the same among nested models, adding the terms j
 
     python3 09_overfitting.py [OUT_DIR]               # writes OUT_DIR/09_overfitting.png
 """
+from course_env import kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import pathlib, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 robots = pathlib.Path(__file__).resolve().parents[1] / "robots"
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -9,15 +9,15 @@ kinematics (nearest the joints it comes from) of each written pose, then the rea
 
     python3 10_filtering_a_program.py [OUT_DIR]       # writes OUT_DIR/10_filtering_a_program.png
 """
+from course_env import cli as course_env_cli, kincal  # first: one clear line if numpy, matplotlib or kincal is missing
 import os, pathlib, re, subprocess, sys, tempfile
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-import kincal
 
 root = pathlib.Path(__file__).resolve().parents[2]
-cli = os.environ.get("KINCAL_CLI", str(root / "build" / "apps" / "kincal"))
+cli = course_env_cli()
 out_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 work = pathlib.Path(tempfile.mkdtemp())
 nominal_file = root / "examples" / "robots" / "ur10_dh.yaml"

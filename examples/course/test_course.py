@@ -211,3 +211,27 @@ def test_10_filtering_a_program(tmp_path):
         # Up to 1 mm and 0.1 deg per parameter leave millimetres; the filter moves each target by about as much
         # (to first order exactly the error), and the controller then puts the real arm on the original target.
         assert 1 < before < 10 and abs(moved - before) < 0.1 * before and after < 1e-6, out
+
+
+def test_missing_build_says_so_in_one_line(tmp_path):
+    """A program run before a build (no kincal module) or without the kincal program: one line, exit 2."""
+    import shutil
+    course = tmp_path / "clone" / "examples" / "course"  # a clone with no build/ folder
+    course.mkdir(parents=True)
+    for name in ("course_env.py", "02_circle_point_analysis.py", "01_conventions.py"):
+        shutil.copy(COURSE / name, course / name)
+    fake = tmp_path / "fake"  # a kincal that cannot be imported, ahead of any installed one
+    fake.mkdir()
+    (fake / "kincal.py").write_text("raise ImportError('not built')\n")
+    env = dict(os.environ, PYTHONPATH=str(fake), MPLBACKEND="Agg")
+    done = subprocess.run([sys.executable, str(course / "02_circle_point_analysis.py"), str(tmp_path)],
+                          capture_output=True, text=True, env=env, timeout=60)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr, done.stderr
+    assert "the kincal Python module is not built" in done.stderr and "scripts/setup" in done.stderr, done.stderr
+    # The module is there (ctest's PYTHONPATH), the program is not.
+    env = dict(os.environ, MPLBACKEND="Agg", KINCAL_CLI=str(tmp_path / "no_such_kincal"))
+    done = subprocess.run([sys.executable, str(course / "01_conventions.py"), str(tmp_path)],
+                          capture_output=True, text=True, env=env, timeout=60)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert done.stderr.count("\n") == 1 and "no kincal program at" in done.stderr, done.stderr

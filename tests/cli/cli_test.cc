@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "framework/version.h"
 #include "robot/robot_file.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
@@ -65,6 +66,23 @@ TEST(Cli, FkRejectsAWrongNumberOfJoints) {
 // The geometric method starts from any convention: the IRB 120 example in Hayati's geometry, swept, is
 // identified in Hayati's geometry (converted exactly to modified DH for the construction and back), and
 // reproduces the sweeps it was built from. A robot it cannot start from is named, not the dataset.
+TEST(Cli, VersionIsTheProjectsVersion) {
+  const auto r = RunKincal("--version");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, std::string("kincal ") + KINCAL_VERSION_STRING + "\n");
+}
+
+TEST(Cli, HelpNamesTheDatasetColumnsAndTheFixedGroups) {
+  const auto r = RunKincal("--help");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Every column the dataset reader knows and every group the error model's `fixed:` holds.
+  for (const char* word : {"q1_deg", "x_mm", "qw,qx,qy,qz", "enc1", "sweep", "marker", "session", "split",
+                           "from_q1_deg", "base", "tool", "ratios", "markers", "sessions", "joint_<i>",
+                           "joint_errors", "gravity", "harmonic", "backlash", "approach"}) {
+    EXPECT_NE(r.out.find(word), std::string::npos) << word;
+  }
+}
+
 TEST(Cli, GeometricIdentifiesAHayatiRobotInItsOwnConvention) {
   testing::TempDir dir;
   // The example's three reflectors sit at the flange, on axis 6: placed apart, each sweep moves them.

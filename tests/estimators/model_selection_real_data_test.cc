@@ -13,7 +13,7 @@
 //   and backlash on every joint: the richest file, 0.238 mm): richer is right here; the selected model
 //   within 3 % of the full file's held-out RMS.
 // Selection runs as it does by default, its fits maximum a posteriori with the default priors
-// (model_selection.h); the models it is compared with are plain least-squares fits, as in the README's
+// (model_selection.h); the models it is compared with are plain least-squares fits, as in docs/guide/real_data.md's
 // table. With `prior: off` (measured before fits were analysed in flat valleys) B -> C picked
 // "+ harmonic 2" at 0.632 / 2.31 mm, above geometry's 0.629.
 // On all three, >= 95 % of the held-out 3-D errors lie within 3 sqrt(sd^2 + sigma_3d^2).
@@ -281,10 +281,10 @@ void AddTerms(Robot* robot, JointErrorTerm::Type type, const std::vector<int>& j
   robot->joint_errors.Bind(robot->model());
 }
 
-// The README's "selected" rows of irb120_wu2015 and fanuc_boby2021: selection (default, maximum a
+// docs/guide/real_data.md's "selected" rows of irb120_wu2015 and fanuc_boby2021: selection (default, maximum a
 // posteriori) from the richest file these data can carry (gravity of joints 2-5, harmonic orders 1 and 2
 // on every joint; neither dataset moves the arm in a measured sequence that backlash and approach need),
-// beside geometry fitted by least squares as in the README's tables.
+// beside geometry fitted by least squares as in docs/guide/real_data.md's tables.
 TEST(ModelSelectionRealData, Irb120Wu2015Selected) {
   Irb120Wu2015 wu;
   KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120Wu2015(SharedDataPath("irb120_wu2015"), &wu),

@@ -44,7 +44,8 @@ inline bool LoadUr10Series(const std::string& path, Dataset* data) {
   return true;
 }
 
-// ur10_dh.yaml with a 100 mm tool (the protocol of the README's table), the UR10's joint speeds and the first `groups`
+// ur10_dh.yaml with a 100 mm tool (the protocol of the table in docs/guide/real_data.md), the UR10's joint
+// speeds and the first `groups`
 // joint-error groups of the richest file, in model selection's order: gravity 2-5, harmonic orders 1 and 2
 // on joints 1-6, backlash 1-6, approach 1-6 (22 groups in all).
 inline Robot Ur10Rich(int groups) {

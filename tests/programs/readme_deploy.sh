@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# README.md, "Deploying a calibration": the three commands as written there, from a simulated tracker
+# docs/guide/commands.md, "Deploying a calibration": the three commands as written there, from a simulated tracker
 # dataset of the IRB 120 to a filtered RAPID module. Usage: readme_deploy.sh KINCAL SOURCE_DIR
 set -euo pipefail
 kincal="$1"

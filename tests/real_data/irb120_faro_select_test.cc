@@ -1,4 +1,4 @@
-// The README's "--select" row of irb120_faro: reflector 1, even poses fit, odd poses scored, selection
+// docs/guide/real_data.md's "--select" row of irb120_faro: reflector 1, even poses fit, odd poses scored, selection
 // from examples/robots/irb120_joint_errors.yaml (skips without ../shared/data/irb120_faro, fails under
 // KINCAL_REQUIRE_DATA=1). Richer is right on this arm: selection keeps the approach terms.
 #include <cstdio>

@@ -108,7 +108,7 @@ TEST(StudyPriorsTest, ReportCarriesTheEstimatorsPriorColumns) {
     }
     EXPECT_TRUE(ReportRow(md, {p.name, p.unit == "m" ? "mm" : "deg", "least_squares"}).empty()) << p.name;
   }
-  // The seed arm's lengths have the 1 mm prior, its angles 2 mrad (README, Priors and weak parameters).
+  // The seed arm's lengths have the 1 mm prior, its angles 2 mrad (docs/guide/methods.md, Priors and weak parameters).
   EXPECT_GT(lengths, 0);
   EXPECT_GT(angles, 0);
   EXPECT_GT(report_rows, 0);
