@@ -111,44 +111,48 @@ Eigen::VectorXd ProgramFilter::RealArmSeed(const CompensationTarget& goal, const
   Eigen::VectorXd middle(n);
   for (int j = 0; j < n; ++j) middle[j] = 0.5 * (controller_.Limit(j).first + controller_.Limit(j).second);
   const Eigen::VectorXd& ref = reference.size() == n ? reference : middle;
-  // The controller's closest attempt lies at the fold (the stretched elbow), where the branches meet:
-  // small moves off it reach either side, and the fit onto the named fields keeps the named one.
-  const Eigen::VectorXd attempt = ik_->Solve(goal.T_meas_tool, ref).q;
-  // First the controller's solutions on the named branch of the target moved towards the shoulder (into
-  // the nominal arm's reach, the real arm's solution nearby).
-  for (double pull : {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2}) {
+  // The real arm's joints from `start` when they have the named configuration; empty otherwise.
+  const auto from = [&](const Eigen::VectorXd& start) -> Eigen::VectorXd {
     CompensationTarget t = goal;
+    t.seed = start;
+    const CompensationResult r = compensator_->Compensate(t);
+    const bool named = r.report.status == CompensationStatus::kConverged && rules_->Of(r.q_command) == configuration;
+    return named ? r.q_command : Eigen::VectorXd();
+  };
+  // First the controller's solutions on the named branch of the target moved towards the shoulder (into
+  // the nominal arm's reach next to the stretched elbow; the real arm's solution is nearby).
+  for (double pull : {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2}) {
     const Eigen::Vector3d towards = shoulder_ - goal.T_meas_tool.translation();
     if (!(towards.norm() > pull)) break;
-    t.T_meas_tool.translation() += pull * towards.normalized();
-    const ConfigurationRules::Solution s = rules_->Solve(*ik_, t.T_meas_tool, configuration, reference);
+    Eigen::Isometry3d pulled = goal.T_meas_tool;
+    pulled.translation() += pull * towards.normalized();
+    const ConfigurationRules::Solution s = rules_->Solve(*ik_, pulled, configuration, reference);
     if (!s.found) continue;
-    t = goal;
-    t.seed = s.q;
-    const CompensationResult r = compensator_->Compensate(t);
-    if (r.report.status == CompensationStatus::kConverged && rules_->Of(r.q_command) == configuration) {
-      return r.q_command;
-    }
+    const Eigen::VectorXd q = from(s.q);
+    if (q.size()) return q;
   }
-  // Moves up to pi also reach the named branch when the attempt is on another wrist branch (other fields
-  // of joints 4 to 6); draws that do not fit the named fields are drawn again.
-  constexpr int kStarts = 48, kDraws = 500;
+  // Then random moves of the controller's closest attempt and of each of its branches of the target (next
+  // to a singular wrist, the real arm's q5 can have the other sign than every nominal solution's), with a
+  // spread growing to pi; draws that do not fit the named fields by whole turns are drawn again.
+  std::vector<Eigen::VectorXd> bases = {ik_->Solve(goal.T_meas_tool, ref).q};
+  for (const IkSolution& b : ik_->AllBranches(goal.T_meas_tool, ref)) bases.push_back(b.q);
+  constexpr int kSpreads = 24, kDraws = 200, kMaxStarts = 64;
   Rng rng(1);  // a fixed stream: the same target gives the same joints
-  for (int k = 0; k < kStarts; ++k) {
-    const double spread = k == 0 ? 0.0 : 0.02 * std::pow(M_PI / 0.02, (k - 1.0) / (kStarts - 2.0));
-    Eigen::VectorXd q;
-    bool fits = false;
-    for (int draw = 0; draw < (k == 0 ? 1 : kDraws) && !fits; ++draw) {
-      Eigen::VectorXd start = attempt;
-      for (int j = 0; j < n; ++j) start[j] += rng.Uniform(-spread, spread);
-      fits = rules_->Fit(start, configuration, ref, &q);
-    }
-    if (!fits) continue;
-    CompensationTarget t = goal;
-    t.seed = q;
-    const CompensationResult r = compensator_->Compensate(t);
-    if (r.report.status == CompensationStatus::kConverged && rules_->Of(r.q_command) == configuration) {
-      return r.q_command;
+  int starts = 0;
+  for (int k = 0; k < kSpreads; ++k) {
+    const double spread = 0.02 * std::pow(M_PI / 0.02, k / (kSpreads - 1.0));
+    for (const Eigen::VectorXd& base : bases) {
+      Eigen::VectorXd q;
+      bool fits = false;
+      for (int draw = 0; draw < kDraws && !fits; ++draw) {
+        Eigen::VectorXd start = base;
+        for (int j = 0; j < n; ++j) start[j] += rng.Uniform(-spread, spread);
+        fits = rules_->Fit(start, configuration, ref, &q);
+      }
+      if (!fits) continue;
+      const Eigen::VectorXd solution = from(q);
+      if (solution.size()) return solution;
+      if (++starts == kMaxStarts) return {};
     }
   }
   return {};
