@@ -4,6 +4,7 @@
 // joint numbers changed (robot/urdf_io.h), or as a UR kinematics YAML (--to ur-kinematics,
 // robot/ur_kinematics.h): what that file does not hold is listed on stderr and in the file, and with
 // --data the held-out RMS error with and without it.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -42,11 +43,24 @@ void WriteUrKinematics(const Robot& robot, const std::string& robot_path, const 
   }
   const Dataset data = ReadDataset(data_path);
   data.Validate(robot.dof());
-  const double with = EvaluatePredictions(robot, robot, data).position_stats.rms;
-  const double held = EvaluatePredictions(robot, result.held, data).position_stats.rms;
-  std::printf("%s, %zu rows: RMS position error %.6g mm with the whole robot file, %.6g mm as the UR file holds it "
+  // A dataset with a split is scored on its test rows (the others still give each row its previous pose).
+  const bool split = data.HasSplit();
+  const auto rms = [&](const Robot& model) {
+    const std::vector<double> errors = EvaluatePredictions(robot, model, data).position;
+    double sum2 = 0.0;
+    size_t count = 0;
+    for (size_t i = 0; i < errors.size(); ++i) {
+      if (split && data.rows[i].split != Split::kTest) continue;
+      sum2 += errors[i] * errors[i];
+      ++count;
+    }
+    return std::make_pair(count ? std::sqrt(sum2 / count) : 0.0, count);
+  };
+  const auto [with, rows] = rms(robot);
+  const double held = rms(result.held).first;
+  std::printf("%s, %zu %s: RMS position error %.6g mm with the whole robot file, %.6g mm as the UR file holds it "
               "(base and tool set in the controller; drives, coupling and joint errors dropped)\n",
-              data_path.c_str(), data.rows.size(), with * 1e3, held * 1e3);
+              data_path.c_str(), rows, split ? "test rows" : "rows", with * 1e3, held * 1e3);
 }
 
 }  // namespace

@@ -98,13 +98,12 @@ std::vector<std::string> DroppedItems(const Robot& robot, const Eigen::Isometry3
   if (robot.coupling.size() && !robot.coupling.isIdentity(0.0)) {
     dropped.push_back("coupling not held: the controller reads each joint as it is");
   }
-  if (!robot.joint_errors.empty()) {
-    std::string names;
-    for (const auto& term : robot.joint_errors.terms) {
-      names += (names.empty() ? "" : ", ") + JointErrorTerm::TypeName(term.type) + " " + std::to_string(term.joint + 1);
-    }
-    dropped.push_back("joint errors not held (" + names + "): the file has no joint-level terms");
+  std::string names;  // the joint error terms that move a joint (all-zero ones are not lost)
+  for (const auto& term : robot.joint_errors.terms) {
+    if (term.coefficients.size() == 0 || term.coefficients.cwiseAbs().maxCoeff() == 0.0) continue;
+    names += (names.empty() ? "" : ", ") + JointErrorTerm::TypeName(term.type) + " " + std::to_string(term.joint + 1);
   }
+  if (!names.empty()) dropped.push_back("joint errors not held (" + names + "): the file has no joint-level terms");
   return dropped;
 }
 
