@@ -20,9 +20,10 @@ Eigen::Vector2d ArmSides(const Robot& robot, const Eigen::VectorXd& q) {
     w[j] = J.col(j).tail<3>().normalized();
     a[j] = p + w[j].cross(J.col(j).head<3>());  // the foot of the perpendicular from p on axis j
   }
-  // The wrist centre: the point of axis 5 nearest axis 4 (where they meet).
+  // The wrist centre: the point of axis 5 nearest axis 4 (where they meet). a[4] is that point only when
+  // the tool point lies in the plane through it normal to axis 5 (no tool offset along axis 5).
   Eigen::Vector3d wrist = a[3];
-  const Eigen::Vector3d n = w[3].cross(w[4]);
+  const Eigen::Vector3d n = w[4].cross(w[3]);
   if (n.squaredNorm() > 1e-18) {
     const double t = (a[3] - a[4]).cross(w[3]).dot(n) / n.squaredNorm();
     wrist = a[4] + t * w[4];

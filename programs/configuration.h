@@ -47,10 +47,12 @@ class ConfigurationRules {
   };
   Solution Solve(const NominalInverseKinematics& ik, const Eigen::Isometry3d& T_meas_tool,
                  const std::vector<int>& configuration, const Eigen::VectorXd& reference) const;
-
- private:
+  // q_in with each revolute joint moved by whole turns within the limits to agree with the named fields,
+  // nearest `reference` (n values); true when *q then has exactly the named configuration.
   bool Fit(const Eigen::VectorXd& q_in, const std::vector<int>& configuration, const Eigen::VectorXd& reference,
            Eigen::VectorXd* q) const;
+
+ private:
   ConfigurationConvention convention_;
   const Robot* controller_;
   // The criteria's signs where the manufacturers define them: the wrist centre in front of axis 1 at the

@@ -7,6 +7,7 @@
 
 #include "compensators/program.h"
 #include "framework/math.h"
+#include "framework/random.h"
 
 namespace kincal {
 
@@ -24,6 +25,23 @@ std::vector<double> XyzAbc(const Eigen::Isometry3d& T) {
 
 std::string FinitePose(const Eigen::Isometry3d& T, const char* what) {
   return T.matrix().allFinite() ? std::string() : std::string(what) + " must be finite";
+}
+
+// The point of axis 1 nearest axis 2 at q = 0 (where they meet, on arms like the IRB 120), in the
+// measurement frame: the centre the arm's reach is measured from. Axes from the joint screws: the tool
+// point p moves at v = w x (p - a) about an axis through a, so p + w x v / |w|^2 lies on it.
+Eigen::Vector3d Shoulder(const Robot& robot) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(robot.dof());
+  const Eigen::Vector3d p = robot.model().ForwardKinematics(zero).translation();
+  if (robot.dof() < 2) return robot.model().base().translation();
+  const Matrix6Xd J = robot.model().JointJacobian(zero);
+  const Eigen::Vector3d w1 = J.col(0).tail<3>(), w2 = J.col(1).tail<3>();
+  if (!(w1.squaredNorm() > 0) || !(w2.squaredNorm() > 0)) return robot.model().base().translation();
+  const Eigen::Vector3d a1 = p + w1.cross(J.col(0).head<3>()) / w1.squaredNorm();
+  const Eigen::Vector3d a2 = p + w2.cross(J.col(1).head<3>()) / w2.squaredNorm();
+  const Eigen::Vector3d n = w1.cross(w2);
+  if (n.squaredNorm() < 1e-12 * w1.squaredNorm() * w2.squaredNorm()) return a1;
+  return a1 + w1 * ((a2 - a1).cross(w2).dot(n) / n.squaredNorm());
 }
 
 }  // namespace
@@ -83,7 +101,61 @@ ProgramFilter::ProgramFilter(const Robot& nominal, const Robot& identified, std:
   compensator_->Prepare(nominal_used, identified_used);
   controller_ = ControllerRobot(nominal_used, identified_used);
   ik_ = std::make_unique<NominalInverseKinematics>(controller_);
+  shoulder_ = Shoulder(controller_);
   rules_ = std::make_unique<ConfigurationRules>(convention, controller_);
+}
+
+Eigen::VectorXd ProgramFilter::RealArmSeed(const CompensationTarget& goal, const std::vector<int>& configuration,
+                                           const Eigen::VectorXd& reference) const {
+  const int n = controller_.dof();
+  Eigen::VectorXd middle(n);
+  for (int j = 0; j < n; ++j) middle[j] = 0.5 * (controller_.Limit(j).first + controller_.Limit(j).second);
+  const Eigen::VectorXd& ref = reference.size() == n ? reference : middle;
+  // The real arm's joints from `start` when they have the named configuration; empty otherwise.
+  const auto from = [&](const Eigen::VectorXd& start) -> Eigen::VectorXd {
+    CompensationTarget t = goal;
+    t.seed = start;
+    const CompensationResult r = compensator_->Compensate(t);
+    const bool named = r.report.status == CompensationStatus::kConverged && rules_->Of(r.q_command) == configuration;
+    return named ? r.q_command : Eigen::VectorXd();
+  };
+  // First the controller's solutions on the named branch of the target moved towards the shoulder (into
+  // the nominal arm's reach next to the stretched elbow; the real arm's solution is nearby).
+  for (double pull : {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2}) {
+    const Eigen::Vector3d towards = shoulder_ - goal.T_meas_tool.translation();
+    if (!(towards.norm() > pull)) break;
+    Eigen::Isometry3d pulled = goal.T_meas_tool;
+    pulled.translation() += pull * towards.normalized();
+    const ConfigurationRules::Solution s = rules_->Solve(*ik_, pulled, configuration, reference);
+    if (!s.found) continue;
+    const Eigen::VectorXd q = from(s.q);
+    if (q.size()) return q;
+  }
+  // Then random moves of the controller's closest attempt and of each of its branches of the target (next
+  // to a singular wrist, the real arm's q5 can have the other sign than every nominal solution's), with a
+  // spread growing to pi; draws that do not fit the named fields by whole turns are drawn again.
+  std::vector<Eigen::VectorXd> bases = {ik_->Solve(goal.T_meas_tool, ref).q};
+  for (const IkSolution& b : ik_->AllBranches(goal.T_meas_tool, ref)) bases.push_back(b.q);
+  constexpr int kSpreads = 24, kDraws = 200, kMaxStarts = 64;
+  Rng rng(1);  // a fixed stream: the same target gives the same joints
+  int starts = 0;
+  for (int k = 0; k < kSpreads; ++k) {
+    const double spread = 0.02 * std::pow(M_PI / 0.02, k / (kSpreads - 1.0));
+    for (const Eigen::VectorXd& base : bases) {
+      Eigen::VectorXd q;
+      bool fits = false;
+      for (int draw = 0; draw < kDraws && !fits; ++draw) {
+        Eigen::VectorXd start = base;
+        for (int j = 0; j < n; ++j) start[j] += rng.Uniform(-spread, spread);
+        fits = rules_->Fit(start, configuration, ref, &q);
+      }
+      if (!fits) continue;
+      const Eigen::VectorXd solution = from(q);
+      if (solution.size()) return solution;
+      if (++starts == kMaxStarts) return {};
+    }
+  }
+  return {};
 }
 
 std::string ReplaceNumbers(const std::string& text, const std::vector<NumberSpan>& spans,
@@ -155,13 +227,19 @@ FilteredProgram ProgramFilter::Filter(const ProgramFormat& format, const std::st
       return true;
     }
     const ConfigurationRules::Solution s = rules_->Solve(*ik_, goal->T_meas_tool, target.configuration, reference);
-    if (!s.found) {
-      keep(target, target.configuration.empty()
-                       ? "the controller does not reach the target inside its joint limits"
-                       : "the controller has no solution on the branch its configuration names");
+    if (s.found) {
+      goal->seed = s.q;
+      return true;
+    }
+    if (target.configuration.empty()) {
+      keep(target, "the controller does not reach the target inside its joint limits");
       return false;
     }
-    goal->seed = s.q;
+    goal->seed = RealArmSeed(*goal, target.configuration, reference);
+    if (goal->seed.size() == 0) {
+      keep(target, "the real arm has no solution on the branch its configuration names (nor has the controller)");
+      return false;
+    }
     return true;
   };
   // A target not reached is sent as written (its seed); a reached one as compensated, its numbers rewritten.

@@ -9,8 +9,12 @@
 //   3. compensation from that seed (the previous target's commands are where the arm comes from);
 //   4. the filtered pose: the controller's forward kinematics of the compensated commands, back in the
 //      program's frame, with the configuration fields of those commands.
-// A joint target q is the pose the controller reaches at q, compensated from q. A target that is not
-// reached (not converged inside the joint limits) stays as written and is reported with file:line.
+// A joint target q is the pose the controller reaches at q, compensated from q. Where the controller has
+// no solution on the named branch (a target just outside the nominal arm's reach, next to a fold of its
+// workspace such as the stretched elbow, that the real arm reaches), step 2 is replaced by the real arm's
+// solution on that branch, found by the compensator from starts around the controller's closest attempt
+// (RealArmSeed). A target that is not reached (not converged inside the joint limits, or the real arm
+// has no solution on the named branch either) stays as written and is reported with file:line.
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,11 +76,18 @@ class ProgramFilter {
   const Robot& controller() const { return controller_; }
 
  private:
+  // The commands that put the real arm on the target with joints of the named configuration, from the
+  // controller's solutions on that branch of the target moved towards the shoulder by 0.1 to 30 mm, then
+  // from starts around the controller's closest attempt at it (its joints moved at random with a growing
+  // spread, then by whole turns onto the named fields); empty when none converges on that branch.
+  Eigen::VectorXd RealArmSeed(const CompensationTarget& goal, const std::vector<int>& configuration,
+                              const Eigen::VectorXd& reference) const;
   FilterOptions options_;
   Robot controller_;
   std::unique_ptr<Compensator> compensator_;
   std::unique_ptr<NominalInverseKinematics> ik_;
   std::unique_ptr<ConfigurationRules> rules_;
+  Eigen::Vector3d shoulder_ = Eigen::Vector3d::Zero();  // m, measurement frame: see Shoulder in filter.cc
 };
 
 // The text with each span replaced by its new value where it moved by more than keep_tolerance.

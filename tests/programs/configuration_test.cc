@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "framework/math.h"
+#include "framework/random.h"
 #include "programs/configuration.h"
 #include "tests/support/test_util.h"
 
@@ -39,6 +40,25 @@ TEST(Configuration, KukaStatusAndTurn) {
   EXPECT_EQ(kuka.Of(Deg({0, -90, 90, 0, -30, 0})), (std::vector<int>{6, 2 + 16}));
   EXPECT_EQ(kuka.Of(Deg({-20, -90, 90, -10, 30, -200})), (std::vector<int>{2, 1 + 2 + 8 + 32}));
   EXPECT_EQ(kuka.Of(Deg({0, -90, -60, 0, 30, 0}))[0], 1);  // forearm up and back: overhead, A3 < phi
+}
+
+// The fields are the arm's joints', not the tool's: with a tool offset in every direction (so the tool
+// point is off the plane through the wrist centre normal to axis 5) they are the flange's, at random joints
+// and at joints next to the stretched elbow, where the lower-arm bit flips.
+TEST(Configuration, FieldsDoNotDependOnTheTool) {
+  for (const auto& [file, convention] : {std::pair{"irb120_mdh.yaml", ConfigurationConvention::kAbb},
+                                         std::pair{"kuka_kr6_r900.yaml", ConfigurationConvention::kKuka}}) {
+    const Robot flange = testing::LoadExampleRobot(file);
+    Robot tooled = flange;
+    tooled.model().SetTool(PoseFromXyzRpy({0.03, -0.04, 0.15}, {0.3, -0.2, 0.1}));
+    const ConfigurationRules bare(convention, flange), with_tool(convention, tooled);
+    Rng rng(17);
+    for (int t = 0; t < 2000; ++t) {
+      Eigen::VectorXd q(6);
+      for (int j = 0; j < 6; ++j) q[j] = rng.Uniform(flange.Limit(j).first, flange.Limit(j).second);
+      EXPECT_EQ(with_tool.Of(q), bare.Of(q)) << file << " q " << q.transpose();
+    }
+  }
 }
 
 // Each named branch is solved back: the eight arm/wrist configurations of one pose are eight different
