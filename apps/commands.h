@@ -19,5 +19,6 @@ void AddPredictCommand(CLI::App& app);
 void AddImportCommand(CLI::App& app);
 void AddIkCommand(CLI::App& app);
 void AddFilterCommand(CLI::App& app);
+void AddCheckCommand(CLI::App& app);
 
 }  // namespace kincal::app
