@@ -30,7 +30,10 @@ void AddCheckCommand(CLI::App& app) {
     for (const auto& f : findings) std::cout << doctor::FindingLine(f) << "\n";
     std::cout << "check: " << findings.size() << (findings.size() == 1 ? " finding" : " findings") << " on "
               << data.rows.size() << " rows of " << a->data << "\n";
-    if (!a->report.empty()) WriteFileAtomically(a->report, doctor::FindingsToJson(findings).dump(2) + "\n");
+    if (!a->report.empty()) {
+      const double rms = doctor::RmsAsGiven(nominal, data);
+      WriteFileAtomically(a->report, doctor::FindingsToJson(findings, rms).dump(2) + "\n");
+    }
   });
 }
 

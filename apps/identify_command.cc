@@ -12,6 +12,7 @@
 
 #include "apps/cli_util.h"
 #include "apps/commands.h"
+#include "doctor/doctor.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
 #include "estimators/error_model/prediction_uncertainty.h"
@@ -141,6 +142,7 @@ void AddIdentifyCommand(CLI::App& app) {
     std::string nominal, data, method, options, out, report, validate;
     bool select = false;
     bool audit = false;
+    bool no_check = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "nominal robot file (the controller's model)")->required();
@@ -156,6 +158,7 @@ void AddIdentifyCommand(CLI::App& app) {
   cmd->add_flag("--audit", a->audit,
                 "with --select and held-out rows: fit every nested candidate on the training rows and score each "
                 "on the held-out rows");
+  cmd->add_flag("--no-check", a->no_check, "skip the checks of kincal check that run first (docs/doctor.md)");
   cmd->callback([a]() {
     if (a->audit && !a->select) ThrowInputError("identify: --audit needs --select (it audits the selection)");
     const Robot nominal = ReadRobotFile(a->nominal);
@@ -192,6 +195,11 @@ void AddIdentifyCommand(CLI::App& app) {
                       a->data + ")");
     }
 
+    if (!a->no_check) {  // the doctor's findings, as warnings: the data are fitted as given
+      for (const auto& f : NamingFile(a->data, [&] { return doctor::Diagnose(nominal, train); })) {
+        std::cerr << "warning: " << doctor::FindingLine(f) << "\n";
+      }
+    }
     Robot identified;
     std::vector<EstimationReport> reports =
         NamingFile(a->data, [&] { return RunPipeline(methods, options, nominal, train, &identified); });

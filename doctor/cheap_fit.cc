@@ -141,7 +141,8 @@ bool Step(const Robot& robot, const Rows& rows, const Dataset& data, const Cheap
     if (options.free_markers) {
       for (size_t k = 0; k < t.markers.size(); ++k) t.markers[k] += dx.segment<3>(nf + 3 * k);
     }
-    t.offsets += dx.tail(n);
+    // Bounded: a zero a quarter turn off is a finding of its own (doctor.h), not a correction to absorb.
+    t.offsets = (t.offsets + dx.tail(n)).cwiseMax(-options.max_offset).cwiseMin(options.max_offset);
     if (cost(t) < before) {
       *s = t;
       *damping = std::max(1e-9, *damping / 10.0);

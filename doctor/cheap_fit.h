@@ -17,7 +17,8 @@ namespace kincal::doctor {
 struct CheapFitOptions {
   bool free_markers = true;          // false: markers where the robot file puts them
   int iterations = 8;                // Levenberg-Marquardt steps
-  double offset_prior_sd = 0.0873;   // rad (5 deg): joint offsets are small corrections, not 90 deg turns
+  double offset_prior_sd = 0.0873;   // rad (5 deg): joint offsets are small corrections, not 90 deg turns ...
+  double max_offset = 0.1745;        // ... and never beyond 10 deg, rad
   double trim = 0.9;                 // the score is the RMS of this fraction of rows (the best fitting)
 };
 

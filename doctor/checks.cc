@@ -114,15 +114,20 @@ const OptionTable<DoctorOptions>& DoctorOptions::Table() {
           .Add("outlier_floor", OptionUnit::kLength, &O::outlier_floor, "... and this length", NonNegative())
           .Add("still_range", OptionUnit::kAngleDeg, &O::still_range, "a joint whose values span less never moved",
                Positive())
+          .Add("tie", &O::tie, "repairs within this factor of the best one's RMS are named as alternatives",
+               Between(1.0, 2.0, false, false))
           .Add("max_rows", &O::max_rows, "rows the hypotheses are fitted on (evenly spaced) in larger files", AtLeast(20))
           .Add("rounds", &O::rounds, "repairs found one after the other, each on the data repaired so far", AtLeast(1));
   return table;
 }
 
-nlohmann::json FindingsToJson(const std::vector<Finding>& findings) {
-  nlohmann::json out = {{"findings", nlohmann::json::array()}};
+nlohmann::json FindingsToJson(const std::vector<Finding>& findings, double rms_as_given) {
+  nlohmann::json out = {{"rms_as_given_mm", rms_as_given * kMm}, {"findings", nlohmann::json::array()}};
   for (const Finding& f : findings) {
+    nlohmann::json alternatives = nlohmann::json::array();
+    for (const auto& a : f.alternatives) alternatives.push_back({{"cause", a.cause}, {"joints", a.joints}});
     out["findings"].push_back({{"cause", f.cause},
+                               {"alternatives", alternatives},
                                {"joints", f.joints},
                                {"lines", f.lines},
                                {"message", f.message},

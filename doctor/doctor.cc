@@ -131,18 +131,20 @@ bool BestRepair(const Robot& robot, const Dataset& data, const DoctorOptions& o,
   const CheapFit given = FitCheap(robot, sample, o.fit);
   std::vector<Repair> repairs = ColumnRepairs(data, StillJoints(data, o.still_range));
   for (Repair& r : JumpRepairs(robot, data, given)) repairs.push_back(std::move(r));
-  double best = INFINITY;
-  for (const Repair& r : repairs) {
-    const double score = FitCheap(robot, Apply(sample, r), o.fit).score;
-    if (score < best) {
-      best = score;
-      *repair = r;
-    }
-  }
-  if (!(best <= o.ratio * given.score && given.score - best >= o.min_gain)) return false;
+  std::vector<double> scores;
+  for (const Repair& r : repairs) scores.push_back(FitCheap(robot, Apply(sample, r), o.fit).score);
+  const size_t best = std::min_element(scores.begin(), scores.end()) - scores.begin();
+  if (!(scores[best] <= o.ratio * given.score && given.score - scores[best] >= o.min_gain)) return false;
+  *repair = repairs[best];
   *found = repair->finding;
   found->rms_as_given = given.score;
-  found->rms_repaired = best;
+  found->rms_repaired = scores[best];
+  for (size_t k = 0; k < repairs.size(); ++k) {
+    if (k == best || scores[k] > o.tie * scores[best]) continue;
+    const Finding& alt = repairs[k].finding;
+    found->alternatives.push_back({alt.cause, alt.joints});
+    found->message += "; as well: " + alt.message.substr(0, alt.message.find(':'));
+  }
   return true;
 }
 
@@ -166,6 +168,10 @@ std::vector<Finding> Diagnose(const Robot& robot, const Dataset& data, const Doc
   for (Finding& f : CheckOutliers(robot, current, options)) findings.push_back(f);
   for (Finding& f : CheckStill(robot, current, options)) findings.push_back(f);
   return findings;
+}
+
+double RmsAsGiven(const Robot& robot, const Dataset& data, const DoctorOptions& options) {
+  return data.rows.empty() ? 0.0 : FitCheap(robot, Sample(data, options.max_rows), options.fit).score;
 }
 
 }  // namespace kincal::doctor

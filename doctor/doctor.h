@@ -24,8 +24,9 @@ struct DoctorOptions {
   double ratio = 0.5;            // a repair must divide the trimmed RMS by 2 at least ...
   double min_gain = 0.5e-3;      // ... and lower it by 0.5 mm at least, m
   double tool_distance = 0.02;   // a fitted marker this far from the robot file's is the wrong tool, m
-  double outlier_factor = 8.0;   // a row whose residual exceeds this many times the median is an outlier ...
-  double outlier_floor = 2e-3;   // ... and this much, m
+  double outlier_factor = 6.0;   // a row whose residual exceeds this many times the median is an outlier ...
+  double outlier_floor = 5e-3;   // ... and this much, m (nominal geometry leaves a few mm on industrial arms)
+  double tie = 1.02;             // repairs within this factor of the best fit the data as well: alternatives
   double still_range = 0.0175;   // a joint whose values span less than this never moved, rad (1 deg)
   int max_rows = 300;            // rows the hypotheses are fitted on (evenly spaced) when the file has more
   int rounds = 3;                // findings among the repairs, the best first, each on the data repaired so far
@@ -40,14 +41,25 @@ struct Finding {
   std::string message;      // what is wrong and the repair, one line
   double rms_as_given = 0.0;  // m: the cheap fit's trimmed RMS before and after the repair
   double rms_repaired = 0.0;
+  // Repairs that fit the data as well (within DoctorOptions::tie): the data cannot tell them apart (on
+  // arms whose axes make a mirror pose, a reversed first joint and a second joint's zero half a turn off).
+  struct Alternative {
+    std::string cause;
+    std::vector<int> joints;
+  };
+  std::vector<Alternative> alternatives;
 };
 
 // Every finding on `data` (as read from its file) with `robot` (the robot file). Throws only for data
 // the robot cannot predict (dataset Validate's errors).
 std::vector<Finding> Diagnose(const Robot& robot, const Dataset& data, const DoctorOptions& options = {});
 
-// {"findings": [{"cause", "joints", "lines", "message", "rms_as_given_mm", "rms_repaired_mm"}, ...]}
-nlohmann::json FindingsToJson(const std::vector<Finding>& findings);
+// The cheap fit's trimmed RMS of the data as given, m (the report's figure when there is no finding).
+double RmsAsGiven(const Robot& robot, const Dataset& data, const DoctorOptions& options = {});
+
+// {"rms_as_given_mm", "findings": [{"cause", "joints", "lines", "message", "rms_as_given_mm",
+// "rms_repaired_mm", "alternatives": [{"cause", "joints"}]}, ...]}
+nlohmann::json FindingsToJson(const std::vector<Finding>& findings, double rms_as_given);
 // "check: CAUSE: MESSAGE (RMS a -> b mm)", one line.
 std::string FindingLine(const Finding& finding);
 
