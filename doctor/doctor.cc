@@ -124,23 +124,44 @@ std::vector<Repair> JumpRepairs(const Robot& robot, const Dataset& data, const C
   return out;
 }
 
-// The best repair of one round, or none: each scored by the cheap fit of the repaired sample.
+// RMS distance of the measured points to their centroid, m: the scale a fit's RMS is judged against, so
+// that a repair that shrinks what is fitted (every joint value divided by 57) cannot look like one.
+double Spread(const Dataset& data) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Measurement& m : data.rows) mean += m.p;
+  mean /= static_cast<double>(std::max<size_t>(1, data.rows.size()));
+  double sum = 0.0;
+  for (const Measurement& m : data.rows) sum += (m.p - mean).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, data.rows.size()))) + 1e-12;
+}
+
+// The best repair of one round, or none: each scored by the cheap fit of the repaired sample, relative to
+// the spread of its points (a length repair changes both). The margins hold at the repaired data's scale.
 bool BestRepair(const Robot& robot, const Dataset& data, const DoctorOptions& o, Finding* found,
                 Repair* repair) {
   const Dataset sample = Sample(data, o.max_rows);
   const CheapFit given = FitCheap(robot, sample, o.fit);
+  const double given_relative = given.score / Spread(sample);
   std::vector<Repair> repairs = ColumnRepairs(data, StillJoints(data, o.still_range));
   for (Repair& r : JumpRepairs(robot, data, given)) repairs.push_back(std::move(r));
-  std::vector<double> scores;
-  for (const Repair& r : repairs) scores.push_back(FitCheap(robot, Apply(sample, r), o.fit).score);
-  const size_t best = std::min_element(scores.begin(), scores.end()) - scores.begin();
-  if (!(scores[best] <= o.ratio * given.score && given.score - scores[best] >= o.min_gain)) return false;
+  std::vector<double> relative, scores, spreads;
+  for (const Repair& r : repairs) {
+    const Dataset repaired = Apply(sample, r);
+    spreads.push_back(Spread(repaired));
+    scores.push_back(FitCheap(robot, repaired, o.fit).score);
+    relative.push_back(scores.back() / spreads.back());
+  }
+  const size_t best = std::min_element(relative.begin(), relative.end()) - relative.begin();
+  if (!(relative[best] <= o.ratio * given_relative &&
+        (given_relative - relative[best]) * spreads[best] >= o.min_gain)) {
+    return false;
+  }
   *repair = repairs[best];
   *found = repair->finding;
   found->rms_as_given = given.score;
   found->rms_repaired = scores[best];
   for (size_t k = 0; k < repairs.size(); ++k) {
-    if (k == best || scores[k] > o.tie * scores[best]) continue;
+    if (k == best || relative[k] > o.tie * relative[best]) continue;
     const Finding& alt = repairs[k].finding;
     found->alternatives.push_back({alt.cause, alt.joints});
     found->message += "; as well: " + alt.message.substr(0, alt.message.find(':'));
