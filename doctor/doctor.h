@@ -21,13 +21,13 @@
 namespace kincal::doctor {
 
 struct DoctorOptions {
-  double ratio = 0.5;            // a repair must divide the trimmed RMS by 2 at least ...
+  double ratio = 0.7;            // a repair must leave at most 0.7 of the (relative) trimmed RMS ...
   double min_gain = 0.5e-3;      // ... and lower it by 0.5 mm at least, m
   double tool_distance = 0.02;   // a fitted marker this far from the robot file's is the wrong tool, m
   double outlier_factor = 6.0;   // a row whose residual exceeds this many times the median is an outlier ...
   double outlier_floor = 5e-3;   // ... and this much, m (nominal geometry leaves a few mm on industrial arms)
   double tie = 1.02;             // repairs within this factor of the best fit the data as well: alternatives
-  double still_range = 0.0175;   // a joint whose values span less than this never moved, rad (1 deg)
+  double still_range = M_PI / 180;  // a joint whose values span less than this never moved, rad (1 deg)
   int max_rows = 300;            // rows the hypotheses are fitted on (evenly spaced) when the file has more
   int rounds = 3;                // findings among the repairs, the best first, each on the data repaired so far
   CheapFitOptions fit;
