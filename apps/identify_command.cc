@@ -1,5 +1,7 @@
 // kincal identify --nominal N.yaml --data DATA.csv --method A[,B...] [--options O.yaml] --out I.yaml
-//                 [--report R.json] [--validate HELDOUT.csv] [--select [--audit]]
+//                 [--report R.json] [--validate HELDOUT.csv] [--select [--audit]] [--no-check]
+// First the checks of `kincal check` (doctor/doctor.h): each finding a warning on stderr; the data are
+// fitted as given.
 // --select: the last method (an error-model estimator) selects among the robot file's nested joint-error
 // models by cross-validation (`select: true`, estimators/selection/model_selection.h).
 // --audit (with --select and held-out rows): every nested candidate is also fitted on all training rows
