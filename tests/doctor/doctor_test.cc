@@ -2,10 +2,14 @@
 // the robot file's by a millimetre and a few hundredths of a degree per parameter, measured by a tracker
 // metres away with 20 um noise. Clean data give no finding; each fault injected gives its cause, with
 // the right joints or lines, and no other finding.
+#include <algorithm>
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "doctor/doctor.h"
 #include "framework/random.h"
+#include "robot/robot_file.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
 
@@ -135,6 +139,29 @@ TEST(Doctor, SessionsAreFramesOfTheirOwnNotAJump) {
     if (i >= 70) s.data.rows[i].p = moved * s.data.rows[i].p;
   }
   EXPECT_TRUE(doctor::Diagnose(s.nominal, s.data).empty()) << Causes(doctor::Diagnose(s.nominal, s.data));
+}
+
+TEST(Doctor, CheckCommandReportsByLineAndExitsTwoOnUnreadableData) {
+  Case s = Simulated(150, 14);
+  for (int i : {20, 80}) s.data.rows[i].p += Eigen::Vector3d(0.0, 0.03, 0.0);
+  TempDir dir;
+  WriteDataset(s.data, dir.path("d.csv"));
+  WriteText(dir.path("n.yaml"), RobotToYaml(s.nominal));
+  const CommandResult ok = RunKincal("check --nominal '" + dir.path("n.yaml") + "' --data '" + dir.path("d.csv") +
+                                     "' --report '" + dir.path("r.json") + "'");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const nlohmann::json report = nlohmann::json::parse(ReadText(dir.path("r.json")));
+  ASSERT_EQ(report["findings"].size(), 1u) << ok.out;
+  EXPECT_EQ(report["findings"][0]["cause"], "outliers");
+  // The file's lines: the header is line 1 (after any comment lines), so row i is on line header + 1 + i.
+  const Dataset read = ReadDataset(dir.path("d.csv"));
+  EXPECT_EQ(report["findings"][0]["lines"], nlohmann::json({read.rows[20].line, read.rows[80].line}));
+  WriteText(dir.path("bad.csv"), "q1_deg,q2_deg\n1,2\n");
+  const CommandResult bad = RunKincal("check --nominal '" + dir.path("n.yaml") + "' --data '" + dir.path("bad.csv") +
+                                      "' --report '" + dir.path("bad.json") + "'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(std::ifstream(dir.path("bad.json")).good());
 }
 
 TEST(Doctor, ReportHasTheNamedFields) {
