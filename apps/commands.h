@@ -20,5 +20,6 @@ void AddImportCommand(CLI::App& app);
 void AddIkCommand(CLI::App& app);
 void AddFilterCommand(CLI::App& app);
 void AddPlanCommand(CLI::App& app);
+void AddCheckCommand(CLI::App& app);
 
 }  // namespace kincal::app

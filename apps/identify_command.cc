@@ -1,5 +1,7 @@
 // kincal identify --nominal N.yaml --data DATA.csv --method A[,B...] [--options O.yaml] --out I.yaml
-//                 [--report R.json] [--validate HELDOUT.csv] [--select [--audit]]
+//                 [--report R.json] [--validate HELDOUT.csv] [--select [--audit]] [--no-check]
+// First the checks of `kincal check` (doctor/doctor.h): each finding a warning on stderr; the data are
+// fitted as given.
 // --select: the last method (an error-model estimator) selects among the robot file's nested joint-error
 // models by cross-validation (`select: true`, estimators/selection/model_selection.h).
 // --audit (with --select and held-out rows): every nested candidate is also fitted on all training rows
@@ -12,6 +14,7 @@
 
 #include "apps/cli_util.h"
 #include "apps/commands.h"
+#include "doctor/doctor.h"
 #include "framework/atomic_file.h"
 #include "framework/error.h"
 #include "estimators/error_model/prediction_uncertainty.h"
@@ -133,6 +136,7 @@ void AddIdentifyCommand(CLI::App& app) {
     std::string nominal, data, method, options, out, report, validate;
     bool select = false;
     bool audit = false;
+    bool no_check = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--nominal", a->nominal, "nominal robot file (the controller's model)")->required();
@@ -148,6 +152,7 @@ void AddIdentifyCommand(CLI::App& app) {
   cmd->add_flag("--audit", a->audit,
                 "with --select and held-out rows: fit every nested candidate on the training rows and score each "
                 "on the held-out rows");
+  cmd->add_flag("--no-check", a->no_check, "skip the checks of kincal check that run first (docs/doctor.md)");
   cmd->callback([a]() {
     if (a->audit && !a->select) ThrowInputError("identify: --audit needs --select (it audits the selection)");
     const Robot nominal = ReadRobotFile(a->nominal);
@@ -184,6 +189,11 @@ void AddIdentifyCommand(CLI::App& app) {
                       a->data + ")");
     }
 
+    if (!a->no_check) {  // the doctor's findings, as warnings: the data are fitted as given
+      for (const auto& f : NamingFile(a->data, [&] { return doctor::Diagnose(nominal, train); })) {
+        std::cerr << "warning: " << doctor::FindingLine(f) << "\n";
+      }
+    }
     Robot identified;
     std::vector<EstimationReport> reports =
         NamingFile(a->data, [&] { return RunPipeline(methods, options, nominal, train, &identified); });

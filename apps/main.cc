@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   kincal::app::AddFkCommand(app);
   kincal::app::AddSimulateCommand(app);
   kincal::app::AddIdentifyCommand(app);
+  kincal::app::AddCheckCommand(app);
   kincal::app::AddConvertCommand(app);
   kincal::app::AddImportCommand(app);
   kincal::app::AddCompensateCommand(app);

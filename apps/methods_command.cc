@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "doctor/doctor.h"
 #include "compensators/compensator.h"
 #include "estimators/estimator.h"
 #include "framework/error.h"
@@ -61,7 +62,7 @@ bool PrintOptions(const char* kind, const R& registry, const std::string& name) 
 }
 
 // The options of the tools that are not registered methods: `ik` (kincal ik --options, with its
-// numeric solver's map) and `filter` (kincal filter --filter-options).
+// numeric solver's map), `filter` (kincal filter --filter-options) and `check` (kincal check --options).
 bool PrintToolOptions(const std::string& name) {
   if (name == "ik") {
     std::cout << "inverse kinematics (kincal ik --options):\n";
@@ -78,6 +79,11 @@ bool PrintToolOptions(const std::string& name) {
   if (name == "plan") {
     std::cout << "plan (kincal plan --plan-options):\n";
     PrintDocs(PlanOptions::Table().Docs());
+    return true;
+  }
+  if (name == "check") {
+    std::cout << "check (kincal check --options):\n";
+    PrintDocs(doctor::DoctorOptions::Table().Docs());
     return true;
   }
   return false;
