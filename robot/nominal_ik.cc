@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include "framework/error.h"
 #include "robot/ik_geometry.h"
@@ -37,6 +36,30 @@ namespace {
 using namespace ik;  // robot/ik_geometry.h
 using Eigen::VectorXd;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// |A^-1|_F by Gauss-Jordan elimination with partial pivoting, NaN where a pivot is 0. Eigen's LU inverse
+// runs its blocked triangular solvers even at a fixed 6 x 6, at several times the cost.
+double InverseNorm(Matrix6d A) {
+  Matrix6d B = Matrix6d::Identity();
+  for (int k = 0; k < 6; ++k) {
+    int p = 0;
+    A.col(k).tail(6 - k).cwiseAbs().maxCoeff(&p);
+    p += k;
+    if (A(p, k) == 0.0) return NAN;
+    A.row(k).swap(A.row(p));
+    B.row(k).swap(B.row(p));
+    const double inverse = 1.0 / A(k, k);
+    A.row(k) *= inverse;
+    B.row(k) *= inverse;
+    for (int i = 0; i < 6; ++i) {
+      if (i == k) continue;
+      const double f = A(i, k);
+      A.row(i) -= f * A.row(k);
+      B.row(i) -= f * B.row(k);
+    }
+  }
+  return B.norm();
+}
 
 }  // namespace
 
@@ -172,7 +195,9 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
   }
   const double free_outer[3] = {free[outer[0]], free[outer[1]], free[outer[2]]};
   int mask = 0;
-  const Positions positions = Solve3R(chain[0], chain[1], chain[2], center, M * center, free_outer, &mask);
+  FixedList<Matrix3d, 16> rotations;
+  const Positions positions =
+      Solve3R(chain[0], chain[1], chain[2], center, M * center, free_outer, &mask, &rotations);
   for (int i = 0; i < 3; ++i) {
     if (mask & (1 << i)) *free_mask |= 1 << outer[i];
   }
@@ -180,18 +205,19 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
   const Vector3d& w2 = screws[first + 1].w;
   const Vector3d& w3 = screws[first + 2].w;
   const Vector3d e = Across(w3);
-  for (const Vector3d& abc : positions) {
+  for (int position = 0; position < positions.size; ++position) {
     Vector6d q = Vector6d::Zero();
-    for (int i = 0; i < 3; ++i) q[outer[i]] = abc[i];
-    Isometry3d before = Isometry3d::Identity(), after = Isometry3d::Identity();
-    for (int j = 0; j < first; ++j) before = before * Exp(screws[j], q[j]);
-    for (int j = first + 3; j < n; ++j) after = after * Exp(screws[j], q[j]);
-    const Matrix3d R_N = (before.inverse() * M * after.inverse()).linear();
+    for (int i = 0; i < 3; ++i) q[outer[i]] = positions.item[position][i];
+    // The triple's rotation R_before^T R_M R_after^T is the chain's P^T R_M: its joints after the triple
+    // turn about axes moved by M, P = R_M R_after R_M^T R_before.
+    const Matrix3d R_N = rotations.item[position].transpose() * M.linear();
     int wrist = 0;
-    for (const auto& [x, y] : Subproblem2(w1, w2, w3, R_N * w3, free[first], free[first + 1], &wrist)) {
-      q[first] = x;
-      q[first + 1] = y;
-      q[first + 2] = Subproblem1(w3, e, (Rot(w1, x) * Rot(w2, y)).transpose() * R_N * e);
+    const AnglePairs pairs = Subproblem2(w1, w2, w3, R_N * w3, free[first], free[first + 1], &wrist);
+    for (int pair = 0; pair < pairs.size; ++pair) {
+      const CosSin(&cs)[2] = pairs.cs[pair];
+      q[first] = pairs.pair[pair].first;
+      q[first + 1] = pairs.pair[pair].second;
+      q[first + 2] = Subproblem1(w3, e, (Rot(w1, cs[0]) * Rot(w2, cs[1])).transpose() * R_N * e);
       out->Push(q);
     }
     *free_mask |= wrist << first;
@@ -209,9 +235,11 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
   const int count = ShoulderAngles(X, w, M, center, free[0], as, free_mask);
   for (int i = 0; i < count; ++i) {
     const double a = as[i];
+    const CosSin cs_a = CosSin::Of(a);
+    const Isometry3d XM = Exp(X, cs_a.Negated()) * M;  // E_X(-a) M
     // The triple keeps w: R_Y(y) R_Z(z) (R_M^T R_X(a) w) = w; y is free where w lies on Y (the wrist
     // singularity of the UR family: axes 4 and 6 in line), z where v lies on Z.
-    const Vector3d v = M.linear().transpose() * Rot(X.w, a) * w;
+    const Vector3d v = M.linear().transpose() * Rot(X.w, cs_a) * w;
     int wrist = 0;
     const AnglePairs pairs = Subproblem2(Y.w, Z.w, v, w, free[4], free[5], &wrist);
     *free_mask |= wrist << 4;
@@ -220,12 +248,15 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
       // A free wrist angle moves the point of axis P3 (where the elbow must take it) on a circle in the
       // plane of the planar triple; only where that point is within the elbow's reach does it give a
       // solution, possibly at one angle alone (the elbow stretched there).
+      CosSin cs_y = pairs.cs[pair][0], cs_z = pairs.cs[pair][1];
       if (pairs.free[pair] & 2) {
-        z = elbow.ReachableFreeAngle(Exp(X, -a) * M, Z, Exp(Y, -y) * P3.p, free[5]);
+        z = elbow.ReachableFreeAngle(XM, Z, Exp(Y, -y) * P3.p, free[5]);
+        cs_z = CosSin::Of(z);
       } else if (pairs.free[pair] & 1) {
-        y = elbow.ReachableFreeAngle(Exp(X, -a) * M * Exp(Z, -z), Y, P3.p, free[4]);
+        y = elbow.ReachableFreeAngle(XM * Exp(Z, -z), Y, P3.p, free[4]);
+        cs_y = CosSin::Of(y);
       }
-      const Isometry3d P = Exp(X, -a) * M * Exp(Z, -z) * Exp(Y, -y);
+      const Isometry3d P = XM * Exp(Z, cs_z.Negated()) * Exp(Y, cs_y.Negated());
       // Elbow: the point of axis P3 goes from s to t by turns about P2 then P1 (circle intersection).
       const Vector3d s = P3.p, t = P * P3.p;
       const double r1 = elbow.Flat(t - P1.p).norm();
@@ -239,16 +270,18 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
         q[0] = a;
         q[4] = y;
         q[5] = z;
-        q[2] = Subproblem1(P2.w, s - P2.p, x - c2);
+        CosSin cs_1, cs_2;
+        q[2] = Subproblem1(P2.w, s - P2.p, x - c2, nullptr, &cs_2);
         bool free_1 = false;
-        q[1] = Subproblem1(P1.w, x - c1, t - P1.p, &free_1);
+        q[1] = Subproblem1(P1.w, x - c1, t - P1.p, &free_1, &cs_1);
         if (free_1) {
           // The elbow folded onto axis P1 (links of equal length): every turn about it does.
           q[1] = free[1];
+          cs_1 = CosSin::Of(q[1]);
           *free_mask |= 2;
         }
         const Vector3d e = Across(P3.w);
-        q[3] = Subproblem1(P3.w, e, (Rot(P1.w, q[1]) * Rot(P2.w, q[2])).transpose() * P.linear() * e);
+        q[3] = Subproblem1(P3.w, e, (Rot(P1.w, cs_1) * Rot(P2.w, cs_2)).transpose() * P.linear() * e);
         out->Push(q);
         if (h2 == 0.0) break;  // one elbow
       }
@@ -314,7 +347,7 @@ bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
     // 1 / sigma_min <= |J^-1|_F <= sqrt(6) / sigma_min give r / 6 <= 1 / (|J|_F |J^-1|_F) <= r. Only a
     // ratio inside that factor of 6 of the threshold (or an exactly singular LU) needs the SVD.
     const Matrix6d A = J;
-    const double bound = 1.0 / (A.norm() * Eigen::PartialPivLU<Matrix6d>(A).inverse().norm());
+    const double bound = 1.0 / (A.norm() * InverseNorm(A));
     if (bound >= options.singular_ratio) return false;
     if (6 * bound < options.singular_ratio) return true;
   }
