@@ -14,6 +14,7 @@
 #include "framework/math.h"
 #include "framework/random.h"
 #include "framework/svd.h"
+#include "models/chain_model.h"
 
 namespace kincal {
 
@@ -99,14 +100,16 @@ struct NominalInverseKinematics::Impl {
   // reference's (one free joint moved at a time); false when no member is inside.
   bool SearchFamily(const Isometry3d& T, const VectorXd& reference, int free_mask, IkSolution* s) const;
   // Newton on the model; returns the errors.
-  void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const;
+  // *jacobian (optional): the joint Jacobian at the returned joints, which the pass computes anyway.
+  void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe, Matrix6Xd* jacobian = nullptr) const;
   // Whole turns into the limits, nearest the reference (robot/robot.h); a joint within 1e-9 outside
   // its limit (a solution on the limit, with the rounding of the closed form or the polish) is clamped
   // onto it, *clamped set.
   bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q, bool* clamped = nullptr) const {
     return kincal::WrapIntoLimits(robot, &reference, q, 1e-9, clamped);
   }
-  bool Singular(const VectorXd& q) const;
+  // jacobian: the joint Jacobian at q if known.
+  bool Singular(const VectorXd& q, const Matrix6Xd* jacobian = nullptr) const;
   bool MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const;
   // The numeric solver from `start` (the reference when empty), with `restarts` (< 0: the options').
   IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference, const VectorXd& start = {},
@@ -213,11 +216,13 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
     const Matrix3d R_N = rotations.item[position].transpose() * M.linear();
     int wrist = 0;
     const AnglePairs pairs = Subproblem2(w1, w2, w3, R_N * w3, free[first], free[first + 1], &wrist);
+    const Vector3d R_N_e = R_N * e;
     for (int pair = 0; pair < pairs.size; ++pair) {
       const CosSin(&cs)[2] = pairs.cs[pair];
       q[first] = pairs.pair[pair].first;
       q[first + 1] = pairs.pair[pair].second;
-      q[first + 2] = Subproblem1(w3, e, (Rot(w1, cs[0]) * Rot(w2, cs[1])).transpose() * R_N * e);
+      // (R_1 R_2)^T R_N e, one vector at a time.
+      q[first + 2] = Subproblem1(w3, e, Rot(w2, cs[1]).transpose() * (Rot(w1, cs[0]).transpose() * R_N_e));
       out->Push(q);
     }
     *free_mask |= wrist << first;
@@ -231,6 +236,7 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
   const Vector3d &w = elbow.w, &c1 = elbow.c1, &c2 = elbow.c2, &dv = elbow.dv;
   const double dist = elbow.dist, r2 = elbow.r2;
   if (dist < 1e-12) return;  // P1 and P2 in line: not a closed-form arm (Detect)
+  const Vector3d e = Across(P3.w);
   double as[2];
   const int count = ShoulderAngles(X, w, M, center, free[0], as, free_mask);
   for (int i = 0; i < count; ++i) {
@@ -257,6 +263,7 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
         cs_y = CosSin::Of(y);
       }
       const Isometry3d P = XM * Exp(Z, cs_z.Negated()) * Exp(Y, cs_y.Negated());
+      const Vector3d P_e = P.linear() * e;
       // Elbow: the point of axis P3 goes from s to t by turns about P2 then P1 (circle intersection).
       const Vector3d s = P3.p, t = P * P3.p;
       const double r1 = elbow.Flat(t - P1.p).norm();
@@ -280,8 +287,7 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
           cs_1 = CosSin::Of(q[1]);
           *free_mask |= 2;
         }
-        const Vector3d e = Across(P3.w);
-        q[3] = Subproblem1(P3.w, e, (Rot(P1.w, cs_1) * Rot(P2.w, cs_2)).transpose() * P.linear() * e);
+        q[3] = Subproblem1(P3.w, e, Rot(P2.w, cs_2).transpose() * (Rot(P1.w, cs_1).transpose() * P_e));
         out->Push(q);
         if (h2 == 0.0) break;  // one elbow
       }
@@ -315,32 +321,38 @@ BranchList NominalInverseKinematics::Impl::Branches(const Isometry3d& T, const V
   return out;
 }
 
-void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const {
+void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe,
+                                            Matrix6Xd* jacobian) const {
   const KinematicModel& model = robot.model();
-  Vector6d e = PoseError(model.ForwardKinematics(*q), T);
+  // The pose and the Jacobian of each iterate from one pass of the model (the Jacobian of the last one
+  // goes to the singularity test).
+  Matrix6Xd J, J_trial;
+  Vector6d e = PoseError(PoseAndJointJacobian(model, *q, &J), T);
   double cost = e.squaredNorm();
   for (int it = 0; it < 8 && cost > 1e-28; ++it) {
     // Closed-form branches exist for 6 joints only (Detect): fixed 6 x 6 normal equations (dynamic ones
     // cost 4.5 s more CPU to compile at -O3; Eigen evaluates a 6 x 6 dynamic product coefficient-wise
     // too, and the results are the same).
-    const Matrix6d J = model.JointJacobian(*q);
-    Matrix6d H = J.transpose() * J;
+    const Matrix6d A = J;
+    Matrix6d H = A.transpose() * A;
     H.diagonal().array() += 1e-14 * std::max(1.0, H.diagonal().maxCoeff());
-    const VectorXd step = H.ldlt().solve(J.transpose() * e);
+    const VectorXd step = H.ldlt().solve(A.transpose() * e);
     if (!step.allFinite()) break;
     const VectorXd trial = *q + step;
-    const Vector6d e_trial = PoseError(model.ForwardKinematics(trial), T);
+    const Vector6d e_trial = PoseError(PoseAndJointJacobian(model, trial, &J_trial), T);
     if (!(e_trial.squaredNorm() < cost)) break;
     *q = trial;
     e = e_trial;
+    J.swap(J_trial);
     cost = e.squaredNorm();
   }
   *pe = e.head<3>().norm();
   *oe = e.tail<3>().norm();
+  if (jacobian) jacobian->swap(J);
 }
 
-bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
-  const Matrix6Xd J = robot.model().JointJacobian(q);
+bool NominalInverseKinematics::Impl::Singular(const VectorXd& q, const Matrix6Xd* jacobian) const {
+  const Matrix6Xd J = jacobian ? *jacobian : robot.model().JointJacobian(q);
   if (J.cols() < 6) return true;
   if (J.cols() == 6) {
     // r = sigma_min / sigma_max is bracketed without an SVD: sigma_max <= |J|_F <= sqrt(6) sigma_max and
@@ -456,7 +468,9 @@ bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd&
     t.q = branches->item[candidates[c].branch];
     t.branch = candidates[c].branch;
     t.closed_form = true;
-    Polish(T, &t.q, &t.position_error, &t.orientation_error);
+    Matrix6Xd J;
+    Polish(T, &t.q, &t.position_error, &t.orientation_error, &J);
+    const Vector6d polished = t.q;
     if (!(t.position_error <= options.position_tolerance && t.orientation_error <= options.orientation_tolerance)) {
       if (unfinished && unfinished->size() == 0 && candidates[c].rank < 2) *unfinished = t.q;
       continue;
@@ -473,7 +487,8 @@ bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd&
       }
     }
     if (inside) {
-      t.status = Singular(t.q) ? IkStatus::kSingular : IkStatus::kSolved;
+      // The polish's Jacobian unless the joints moved since (whole turns or a clamp).
+      t.status = Singular(t.q, t.q == polished ? &J : nullptr) ? IkStatus::kSingular : IkStatus::kSolved;
       *s = t;
       return true;
     }
