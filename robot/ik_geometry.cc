@@ -17,7 +17,8 @@ double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool
   const double s = w.dot(xp.cross(yp)), c = xp.dot(yp);
   if (cs) {
     const double r = std::sqrt(c * c + s * s);  // products of lengths: no overflow; hypot costs 5 times more
-    *cs = r > 0.0 ? CosSin{c / r, s / r} : CosSin{};
+    const double inverse = 1.0 / r;
+    *cs = r > 0.0 ? CosSin{c * inverse, s * inverse} : CosSin{};
   }
   return std::atan2(s, c);
 }
@@ -212,7 +213,7 @@ constexpr double kNegligible = 1e-10;
 // alpha cos x + beta sin x + gamma = 0 (in units of `scale`): <= 2 angles into x, or every angle (*all).
 int CircleAngles(double alpha, double beta, double gamma, double scale, double* x, bool* all) {
   *all = false;
-  const double r = std::hypot(alpha, beta);
+  const double r = std::sqrt(alpha * alpha + beta * beta);  // lengths (squared): no overflow
   if (r <= kNegligible * scale) {
     *all = std::abs(gamma) <= kNegligible * scale;
     return 0;
@@ -426,7 +427,7 @@ bool OuterAngles(const PieperEquations::Coef& k, double length, int b_from, doub
                  int* free_mask) {
   *count = 0;
   const double L2 = length * length;
-  const double n1 = std::hypot(k.a1, k.b1) / L2, n2 = std::hypot(k.a2, k.b2) / length;
+  const double n1 = std::sqrt(k.a1 * k.a1 + k.b1 * k.b1) / L2, n2 = std::sqrt(k.a2 * k.a2 + k.b2 * k.b2) / length;
   const double D = (k.a1 * k.b2 - k.a2 * k.b1) / (L2 * length);
   if (b_from == 0 && n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
     bs[(*count)++] = std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D);

@@ -49,13 +49,16 @@ double InverseNorm(Matrix6d A) {
     if (A(p, k) == 0.0) return NAN;
     A.row(k).swap(A.row(p));
     B.row(k).swap(B.row(p));
+    // Columns of A up to k are settled (zero outside the pivots, never read again): only those right
+    // of the pivot are carried along.
+    const int right = 5 - k;
     const double inverse = 1.0 / A(k, k);
-    A.row(k) *= inverse;
+    A.row(k).tail(right) *= inverse;
     B.row(k) *= inverse;
     for (int i = 0; i < 6; ++i) {
       if (i == k) continue;
       const double f = A(i, k);
-      A.row(i) -= f * A.row(k);
+      A.row(i).tail(right) -= f * A.row(k).tail(right);
       B.row(i) -= f * B.row(k);
     }
   }
@@ -352,7 +355,8 @@ void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, do
 }
 
 bool NominalInverseKinematics::Impl::Singular(const VectorXd& q, const Matrix6Xd* jacobian) const {
-  const Matrix6Xd J = jacobian ? *jacobian : robot.model().JointJacobian(q);
+  Matrix6Xd computed;
+  const Matrix6Xd& J = jacobian ? *jacobian : (computed = robot.model().JointJacobian(q));
   if (J.cols() < 6) return true;
   if (J.cols() == 6) {
     // r = sigma_min / sigma_max is bracketed without an SVD: sigma_max <= |J|_F <= sqrt(6) sigma_max and
