@@ -11,9 +11,12 @@
 //     origin terms (arm = o_j - a):   L_axis = (-u, w x c - a x u),   L_link = (u, o_j x u)
 //     direction terms (arm = e):      L_axis = (0, w x c),            L_link = (0, e x u)
 // (dw = om x w moves the axis, d arm the arm; triple products rearranged). So every derivative of a row
-// comes from two K x 6 matrices times the 6 x (n + p) twists, then masked by frame: one product per row
-// instead of K (n + p) evaluations. Regressors (phi) are computed as EvaluateRegressors computes them, to
-// the bit; derivatives agree with it to rounding (the sums are associated differently).
+// comes from two K x 6 matrices and the 6 x (n + p) twists, masked by frame: a 6-term dot product per
+// entry instead of a regressor moved along a twist. EvaluateMap goes further: equation (1) needs only
+// sum_k c_k d phi_k per joint, so it sums c_k L over each joint's rows by frame first (suffix sums over
+// the frames), and the cost of the gravity derivatives no longer grows with K. Regressors (phi) are
+// computed as EvaluateRegressors computes them, to the bit; derivatives agree with it to rounding (the
+// sums are associated differently).
 //
 // A fit calls, per workspace (the terms fixed, the coefficients and model parameters changing):
 //     PreparedRegressors regressors(active_joint_errors, model);       // once
