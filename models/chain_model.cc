@@ -185,6 +185,23 @@ Matrix6Xd ChainModel::JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vec
   return J;
 }
 
+Eigen::Isometry3d ChainModel::JointJacobianAndPose(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
+                                                   Matrix6Xd* J) const {
+  Frame tool;
+  *J = JacobianAndTool(q, p_tool_point, &tool);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = tool.R;
+  T.translation() = tool.p;
+  return T;
+}
+
+Eigen::Isometry3d PoseAndJointJacobian(const KinematicModel& model, const Eigen::VectorXd& q, Matrix6Xd* J,
+                                       const Eigen::Vector3d& p_tool_point) {
+  if (const auto* chain = dynamic_cast<const ChainModel*>(&model)) return chain->JointJacobianAndPose(q, p_tool_point, J);
+  *J = model.JointJacobian(q, p_tool_point);
+  return model.ForwardKinematics(q);
+}
+
 std::vector<Eigen::Matrix4d> ChainModel::PoseDerivatives(const Eigen::VectorXd& q) const {
   Frame tool;
   const Matrix6Xd J = JacobianAndTool(q, Eigen::Vector3d::Zero(), &tool);  // one pass: J and R_meas_tool

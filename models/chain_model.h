@@ -41,6 +41,11 @@ class ChainModel : public KinematicModel {
 
   const std::vector<Op>& ops() const { return ops_; }
 
+  // JointJacobian and T_meas_tool(q) from its one pass (the tool frame is where it ends): the pose to
+  // the bit of ForwardKinematics, the Jacobian of JointJacobian. *J resized if needed.
+  Eigen::Isometry3d JointJacobianAndPose(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
+                                         Matrix6Xd* J) const;
+
  protected:
   // Declares base ops, the subclass's link ops and tool ops. Subclasses call this from their constructor.
   void BuildChain(std::vector<JointType> joint_types, std::vector<ParameterInfo> joint_parameters,
@@ -69,5 +74,10 @@ class ChainModel : public KinematicModel {
   std::vector<Op> joint_ops_;      // one per joint, in order
   std::vector<double> cos_, sin_;  // of each op's parameter value (joint ops: of the parameter alone)
 };
+
+// T_meas_tool(q) and, into *J, the joint Jacobian of the tool point: one pass for a chain model
+// (ChainModel::JointJacobianAndPose), ForwardKinematics and JointJacobian for any other.
+Eigen::Isometry3d PoseAndJointJacobian(const KinematicModel& model, const Eigen::VectorXd& q, Matrix6Xd* J,
+                                       const Eigen::Vector3d& p_tool_point = Eigen::Vector3d::Zero());
 
 }  // namespace kincal

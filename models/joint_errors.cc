@@ -3,6 +3,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "models/joint_error_regressors.h"
+
 namespace kincal {
 
 std::string JointErrorTerm::TypeName(Type type) {
@@ -190,34 +192,13 @@ Eigen::VectorXd JointOffsets(const JointErrors& errors, const Eigen::VectorXd& p
 
 void EvaluateJointErrorMap(const JointErrors& errors, const JointErrorContext& context, const Eigen::VectorXd& qbar,
                            const Eigen::VectorXd* qbar_previous, JointErrorMap::Want want, JointErrorMap* out) {
-  const int n = static_cast<int>(qbar.size());
   Eigen::MatrixXd d_qbar, d_previous, d_parameters;
   RegressorDerivatives d;
   if (want.qbar) d.d_qbar = &d_qbar;
   if (want.previous) d.d_previous = &d_previous;
   if (want.parameters) d.d_parameters = &d_parameters;
-  out->phi = EvaluateRegressors(errors, context, qbar, qbar_previous, d);
-  out->q = qbar + JointOffsets(errors, out->phi, n);
-  // Row joint(k) of each derivative gains c_k times row k of the regressors' derivative.
-  const auto chain = [&](const Eigen::MatrixXd& d_phi, Eigen::MatrixXd* dq) {
-    int k = 0;
-    for (const auto& t : errors.terms) {
-      for (Eigen::Index m = 0; m < t.coefficients.size(); ++m, ++k)
-        dq->row(t.joint) += t.coefficients[m] * d_phi.row(k);
-    }
-  };
-  if (want.qbar) {
-    out->dq_dqbar = Eigen::MatrixXd::Identity(n, n);
-    chain(d_qbar, &out->dq_dqbar);
-  }
-  if (want.previous) {
-    out->dq_dprevious = Eigen::MatrixXd::Zero(n, n);
-    chain(d_previous, &out->dq_dprevious);
-  }
-  if (want.parameters) {
-    out->dq_dparameters = Eigen::MatrixXd::Zero(n, context.model->num_parameters());
-    chain(d_parameters, &out->dq_dparameters);
-  }
+  const Eigen::VectorXd phi = EvaluateRegressors(errors, context, qbar, qbar_previous, d);
+  ChainJointErrorMap(errors, qbar, phi, d.d_qbar, d.d_previous, d.d_parameters, context.model->num_parameters(), out);
 }
 
 }  // namespace kincal

@@ -11,10 +11,16 @@
 
 namespace kincal::ik {
 
-double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate) {
+double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate, CosSin* cs) {
   const Vector3d xp = x - w * w.dot(x), yp = y - w * w.dot(y);
   if (degenerate) *degenerate = xp.norm() < 1e-12 * (1.0 + x.norm());
-  return std::atan2(w.dot(xp.cross(yp)), xp.dot(yp));
+  const double s = w.dot(xp.cross(yp)), c = xp.dot(yp);
+  if (cs) {
+    const double r = std::sqrt(c * c + s * s);  // products of lengths: no overflow; hypot costs 5 times more
+    const double inverse = 1.0 / r;
+    *cs = r > 0.0 ? CosSin{c * inverse, s * inverse} : CosSin{};
+  }
+  return std::atan2(s, c);
 }
 
 AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u, const Vector3d& v, double free_a,
@@ -30,12 +36,16 @@ AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u
   if (across_v < 1e-7) {
     *free |= 1;
     out.free[out.size] = 1;
-    out.pair[out.size++] = {free_a, Subproblem1(w2, u, v)};
+    const int i = out.size++;
+    out.cs[i][0] = CosSin::Of(free_a);
+    out.pair[i] = {free_a, Subproblem1(w2, u, v, nullptr, &out.cs[i][1])};
     if (across_v < 1e-12) return out;
   } else if (across_u < 1e-7) {
     *free |= 2;
     out.free[out.size] = 2;
-    out.pair[out.size++] = {Subproblem1(w1, u, v), free_b};
+    const int i = out.size++;
+    out.cs[i][1] = CosSin::Of(free_b);
+    out.pair[i] = {Subproblem1(w1, u, v, nullptr, &out.cs[i][0]), free_b};
     if (across_u < 1e-12) return out;
   }
   const double h1 = w1.dot(v), h2 = w2.dot(u);  // the heights of c
@@ -52,7 +62,8 @@ AnglePairs Subproblem2(const Vector3d& w1, const Vector3d& w2, const Vector3d& u
   if (g2 < -1e-8) return out;
   for (double sign : {1.0, -1.0}) {
     const Vector3d c = alpha * w1 + beta * w2 + sign * std::sqrt(std::max(g2, 0.0)) * n;
-    out.pair[out.size++] = {Subproblem1(w1, c, v), Subproblem1(w2, u, c)};
+    const int i = out.size++;
+    out.pair[i] = {Subproblem1(w1, c, v, nullptr, &out.cs[i][0]), Subproblem1(w2, u, c, nullptr, &out.cs[i][1])};
     if (g2 <= 0.0) break;  // one intermediate: the two pairs are the same
   }
   return out;
@@ -202,7 +213,7 @@ constexpr double kNegligible = 1e-10;
 // alpha cos x + beta sin x + gamma = 0 (in units of `scale`): <= 2 angles into x, or every angle (*all).
 int CircleAngles(double alpha, double beta, double gamma, double scale, double* x, bool* all) {
   *all = false;
-  const double r = std::hypot(alpha, beta);
+  const double r = std::sqrt(alpha * alpha + beta * beta);  // lengths (squared): no overflow
   if (r <= kNegligible * scale) {
     *all = std::abs(gamma) <= kNegligible * scale;
     return 0;
@@ -416,7 +427,7 @@ bool OuterAngles(const PieperEquations::Coef& k, double length, int b_from, doub
                  int* free_mask) {
   *count = 0;
   const double L2 = length * length;
-  const double n1 = std::hypot(k.a1, k.b1) / L2, n2 = std::hypot(k.a2, k.b2) / length;
+  const double n1 = std::sqrt(k.a1 * k.a1 + k.b1 * k.b1) / L2, n2 = std::sqrt(k.a2 * k.a2 + k.b2 * k.b2) / length;
   const double D = (k.a1 * k.b2 - k.a2 * k.b1) / (L2 * length);
   if (b_from == 0 && n1 > kNegligible && n2 > kNegligible && std::abs(D) > 1e-7 * n1 * n2) {
     bs[(*count)++] = std::atan2((k.a2 * k.g1 - k.a1 * k.g2) / D, (k.b1 * k.g2 - k.b2 * k.g1) / D);
@@ -440,7 +451,7 @@ bool OuterAngles(const PieperEquations::Coef& k, double length, int b_from, doub
 }  // namespace
 
 Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
-                  int* free_mask) {
+                  int* free_mask, FixedList<Matrix3d, 16>* rotations) {
   const PieperEquations eq(A, B, C, p0, p);
   InnerAngles angles;
   if (eq.parallel || eq.d.norm() <= 1e-12 * eq.length) {
@@ -452,20 +463,28 @@ Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Ve
   for (double c : angles.roots) {
     double bs[2];
     int count = 0;
-    if (!OuterAngles(eq.At(std::cos(c), std::sin(c)), eq.length, angles.b_from, free[1], bs, &count, free_mask)) {
-      continue;
-    }
+    const CosSin cs_c = CosSin::Of(c);
+    if (!OuterAngles(eq.At(cs_c.c, cs_c.s), eq.length, angles.b_from, free[1], bs, &count, free_mask)) continue;
+    const Matrix3d R_c = Rot(C.w, cs_c);
+    const Vector3d moved_c = R_c * (p0 - C.p) + C.p;  // E_C(c) p0
     for (int i = 0; i < count; ++i) {
       const double b = bs[i];
-      const Vector3d fp = Exp(eq.B, b) * (Exp(C, c) * p0);
+      const Matrix3d R_b = Rot(eq.B.w, b);
+      const Vector3d fp = R_b * (moved_c - eq.B.p) + eq.B.p;
       bool free_a = false;
-      double a = Subproblem1(eq.A.w, fp - eq.A.p, p - eq.A.p, &free_a);
+      CosSin cs_a;
+      double a = Subproblem1(eq.A.w, fp - eq.A.p, p - eq.A.p, &free_a, &cs_a);
       if (free_a) {
         *free_mask |= 1;
         a = free[0];
+        cs_a = CosSin::Of(a);
       }
-      const Vector3d reached = Exp(eq.A, a) * fp;
-      if ((reached - p).norm() < 1e-4 * eq.length) out.Push(Vector3d(a, b, c));
+      const Matrix3d R_a = Rot(eq.A.w, cs_a);
+      const Vector3d reached = R_a * (fp - eq.A.p) + eq.A.p;
+      if ((reached - p).norm() < 1e-4 * eq.length) {
+        out.Push(Vector3d(a, b, c));
+        if (rotations) rotations->Push(R_a * R_b * R_c);
+      }
     }
   }
   return out;

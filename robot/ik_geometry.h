@@ -3,6 +3,7 @@
 // their exponentials, the Paden-Kahan subproblems 1 and 2, Pieper's 3R positioning problem (with the
 // roots of its polynomial), the planar elbow of three parallel axes, and where lines meet. Angles in rad,
 // lengths in m; no allocation per call.
+#include <cmath>
 #include <complex>
 #include <utility>
 
@@ -20,21 +21,51 @@ struct Screw {
   Vector3d w, p;
 };
 
-inline Matrix3d Rot(const Vector3d& w, double angle) { return Eigen::AngleAxisd(angle, w).toRotationMatrix(); }
+// A cosine and sine pair of an angle.
+struct CosSin {
+  double c = 1.0, s = 0.0;
+  static CosSin Of(double angle) { return {std::cos(angle), std::sin(angle)}; }
+  CosSin Negated() const { return {c, -s}; }
+};
 
-inline Isometry3d Exp(const Screw& s, double angle) {
+// The rotation about unit w by the angle of cosine c and sine s (Rodrigues, in the order of Eigen's
+// AngleAxis, so that Rot(w, CosSin::Of(a)) is Eigen's to the last bit). The closed forms pass the
+// cosine and sine their subproblems find, which spares a sincos per rotation.
+inline Matrix3d Rot(const Vector3d& w, const CosSin& angle) {
+  const double c = angle.c, s = angle.s;
+  Matrix3d R;
+  const Vector3d sin_axis = s * w, cos1_axis = (1.0 - c) * w;
+  double t = cos1_axis.x() * w.y();
+  R(0, 1) = t - sin_axis.z();
+  R(1, 0) = t + sin_axis.z();
+  t = cos1_axis.x() * w.z();
+  R(0, 2) = t + sin_axis.y();
+  R(2, 0) = t - sin_axis.y();
+  t = cos1_axis.y() * w.z();
+  R(1, 2) = t - sin_axis.x();
+  R(2, 1) = t + sin_axis.x();
+  R.diagonal() = (cos1_axis.cwiseProduct(w)).array() + c;
+  return R;
+}
+inline Matrix3d Rot(const Vector3d& w, double angle) { return Rot(w, CosSin::Of(angle)); }
+
+inline Isometry3d Exp(const Screw& s, const CosSin& angle) {
   Isometry3d T = Isometry3d::Identity();
   T.linear() = Rot(s.w, angle);
   T.translation() = s.p - T.linear() * s.p;
   return T;
 }
+inline Isometry3d Exp(const Screw& s, double angle) { return Exp(s, CosSin::Of(angle)); }
+
 
 // M E_s(q) M^-1 = E_{M s}(q).
 inline Screw Moved(const Isometry3d& M, const Screw& s) { return {M.linear() * s.w, M * s.p}; }
 
 // Paden-Kahan subproblem 1: the angle about w that turns x into y (their components across w).
-// *degenerate when x has (almost) no such component: every angle does.
-double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate = nullptr);
+// *degenerate when x has (almost) no such component: every angle does. *cs: the angle's cosine and
+// sine, from the same components (to rounding those of the angle returned).
+double Subproblem1(const Vector3d& w, const Vector3d& x, const Vector3d& y, bool* degenerate = nullptr,
+                   CosSin* cs = nullptr);
 
 // Paden-Kahan subproblem 2 for unit vectors: angles (a, b) with Rot(w1, a) Rot(w2, b) u = v; w1, w2 not
 // parallel. The intermediate c = Rot(w2, b) u = Rot(w1, -a) v has known heights along w1 and w2.
@@ -47,6 +78,7 @@ struct AnglePairs {
   int size = 0;
   std::pair<double, double> pair[3];
   int free[3] = {0, 0, 0};  // per pair, its free angles
+  CosSin cs[3][2];          // per pair, the cosines and sines of its two angles
   const std::pair<double, double>* begin() const { return pair; }
   const std::pair<double, double>* end() const { return pair + size; }
 };
@@ -96,9 +128,10 @@ struct FixedList {
 // value from free[] and sets its bit in *free_mask (1: a, 2: b, 4: c): c where F (or the equation in c
 // alone) vanishes identically, b where E_C(c) p0 lies on B (both equations lose b), a where
 // E_B(b) E_C(c) p0 lies on A.
+// rotations (optional): per position, R_A(a) R_B(b) R_C(c), the rotation of the chain.
 using Positions = FixedList<Vector3d, 16>;
 Positions Solve3R(Screw A, Screw B, const Screw& C, const Vector3d& p0, const Vector3d& p, const double free[3],
-                  int* free_mask);
+                  int* free_mask, FixedList<Matrix3d, 16>* rotations = nullptr);
 
 // The planar triple of three parallel axes P1, P2, P3 (direction w; robot/nominal_ik.cc's parallel
 // closed form): an elbow that takes the point of axis P3 (at distance r2 from axis P2) to a point at

@@ -8,13 +8,13 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include "framework/error.h"
 #include "robot/ik_geometry.h"
 #include "framework/math.h"
 #include "framework/random.h"
 #include "framework/svd.h"
+#include "models/chain_model.h"
 
 namespace kincal {
 
@@ -37,6 +37,33 @@ namespace {
 using namespace ik;  // robot/ik_geometry.h
 using Eigen::VectorXd;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// |A^-1|_F by Gauss-Jordan elimination with partial pivoting, NaN where a pivot is 0. Eigen's LU inverse
+// runs its blocked triangular solvers even at a fixed 6 x 6, at several times the cost.
+double InverseNorm(Matrix6d A) {
+  Matrix6d B = Matrix6d::Identity();
+  for (int k = 0; k < 6; ++k) {
+    int p = 0;
+    A.col(k).tail(6 - k).cwiseAbs().maxCoeff(&p);
+    p += k;
+    if (A(p, k) == 0.0) return NAN;
+    A.row(k).swap(A.row(p));
+    B.row(k).swap(B.row(p));
+    // Columns of A up to k are settled (zero outside the pivots, never read again): only those right
+    // of the pivot are carried along.
+    const int right = 5 - k;
+    const double inverse = 1.0 / A(k, k);
+    A.row(k).tail(right) *= inverse;
+    B.row(k) *= inverse;
+    for (int i = 0; i < 6; ++i) {
+      if (i == k) continue;
+      const double f = A(i, k);
+      A.row(i).tail(right) -= f * A.row(k).tail(right);
+      B.row(i) -= f * B.row(k);
+    }
+  }
+  return B.norm();
+}
 
 }  // namespace
 
@@ -76,14 +103,16 @@ struct NominalInverseKinematics::Impl {
   // reference's (one free joint moved at a time); false when no member is inside.
   bool SearchFamily(const Isometry3d& T, const VectorXd& reference, int free_mask, IkSolution* s) const;
   // Newton on the model; returns the errors.
-  void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const;
+  // *jacobian (optional): the joint Jacobian at the returned joints, which the pass computes anyway.
+  void Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe, Matrix6Xd* jacobian = nullptr) const;
   // Whole turns into the limits, nearest the reference (robot/robot.h); a joint within 1e-9 outside
   // its limit (a solution on the limit, with the rounding of the closed form or the polish) is clamped
   // onto it, *clamped set.
   bool WrapIntoLimits(const VectorXd& reference, Eigen::Ref<VectorXd> q, bool* clamped = nullptr) const {
     return kincal::WrapIntoLimits(robot, &reference, q, 1e-9, clamped);
   }
-  bool Singular(const VectorXd& q) const;
+  // jacobian: the joint Jacobian at q if known.
+  bool Singular(const VectorXd& q, const Matrix6Xd* jacobian = nullptr) const;
   bool MatchesConfiguration(const Eigen::Ref<const VectorXd>& q) const;
   // The numeric solver from `start` (the reference when empty), with `restarts` (< 0: the options').
   IkSolution Numeric(const Isometry3d& T, bool orientation, const VectorXd& reference, const VectorXd& start = {},
@@ -172,7 +201,9 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
   }
   const double free_outer[3] = {free[outer[0]], free[outer[1]], free[outer[2]]};
   int mask = 0;
-  const Positions positions = Solve3R(chain[0], chain[1], chain[2], center, M * center, free_outer, &mask);
+  FixedList<Matrix3d, 16> rotations;
+  const Positions positions =
+      Solve3R(chain[0], chain[1], chain[2], center, M * center, free_outer, &mask, &rotations);
   for (int i = 0; i < 3; ++i) {
     if (mask & (1 << i)) *free_mask |= 1 << outer[i];
   }
@@ -180,18 +211,21 @@ void NominalInverseKinematics::Impl::PieperBranches(const Isometry3d& M, const V
   const Vector3d& w2 = screws[first + 1].w;
   const Vector3d& w3 = screws[first + 2].w;
   const Vector3d e = Across(w3);
-  for (const Vector3d& abc : positions) {
+  for (int position = 0; position < positions.size; ++position) {
     Vector6d q = Vector6d::Zero();
-    for (int i = 0; i < 3; ++i) q[outer[i]] = abc[i];
-    Isometry3d before = Isometry3d::Identity(), after = Isometry3d::Identity();
-    for (int j = 0; j < first; ++j) before = before * Exp(screws[j], q[j]);
-    for (int j = first + 3; j < n; ++j) after = after * Exp(screws[j], q[j]);
-    const Matrix3d R_N = (before.inverse() * M * after.inverse()).linear();
+    for (int i = 0; i < 3; ++i) q[outer[i]] = positions.item[position][i];
+    // The triple's rotation R_before^T R_M R_after^T is the chain's P^T R_M: its joints after the triple
+    // turn about axes moved by M, P = R_M R_after R_M^T R_before.
+    const Matrix3d R_N = rotations.item[position].transpose() * M.linear();
     int wrist = 0;
-    for (const auto& [x, y] : Subproblem2(w1, w2, w3, R_N * w3, free[first], free[first + 1], &wrist)) {
-      q[first] = x;
-      q[first + 1] = y;
-      q[first + 2] = Subproblem1(w3, e, (Rot(w1, x) * Rot(w2, y)).transpose() * R_N * e);
+    const AnglePairs pairs = Subproblem2(w1, w2, w3, R_N * w3, free[first], free[first + 1], &wrist);
+    const Vector3d R_N_e = R_N * e;
+    for (int pair = 0; pair < pairs.size; ++pair) {
+      const CosSin(&cs)[2] = pairs.cs[pair];
+      q[first] = pairs.pair[pair].first;
+      q[first + 1] = pairs.pair[pair].second;
+      // (R_1 R_2)^T R_N e, one vector at a time.
+      q[first + 2] = Subproblem1(w3, e, Rot(w2, cs[1]).transpose() * (Rot(w1, cs[0]).transpose() * R_N_e));
       out->Push(q);
     }
     *free_mask |= wrist << first;
@@ -205,13 +239,16 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
   const Vector3d &w = elbow.w, &c1 = elbow.c1, &c2 = elbow.c2, &dv = elbow.dv;
   const double dist = elbow.dist, r2 = elbow.r2;
   if (dist < 1e-12) return;  // P1 and P2 in line: not a closed-form arm (Detect)
+  const Vector3d e = Across(P3.w);
   double as[2];
   const int count = ShoulderAngles(X, w, M, center, free[0], as, free_mask);
   for (int i = 0; i < count; ++i) {
     const double a = as[i];
+    const CosSin cs_a = CosSin::Of(a);
+    const Isometry3d XM = Exp(X, cs_a.Negated()) * M;  // E_X(-a) M
     // The triple keeps w: R_Y(y) R_Z(z) (R_M^T R_X(a) w) = w; y is free where w lies on Y (the wrist
     // singularity of the UR family: axes 4 and 6 in line), z where v lies on Z.
-    const Vector3d v = M.linear().transpose() * Rot(X.w, a) * w;
+    const Vector3d v = M.linear().transpose() * Rot(X.w, cs_a) * w;
     int wrist = 0;
     const AnglePairs pairs = Subproblem2(Y.w, Z.w, v, w, free[4], free[5], &wrist);
     *free_mask |= wrist << 4;
@@ -220,12 +257,16 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
       // A free wrist angle moves the point of axis P3 (where the elbow must take it) on a circle in the
       // plane of the planar triple; only where that point is within the elbow's reach does it give a
       // solution, possibly at one angle alone (the elbow stretched there).
+      CosSin cs_y = pairs.cs[pair][0], cs_z = pairs.cs[pair][1];
       if (pairs.free[pair] & 2) {
-        z = elbow.ReachableFreeAngle(Exp(X, -a) * M, Z, Exp(Y, -y) * P3.p, free[5]);
+        z = elbow.ReachableFreeAngle(XM, Z, Exp(Y, -y) * P3.p, free[5]);
+        cs_z = CosSin::Of(z);
       } else if (pairs.free[pair] & 1) {
-        y = elbow.ReachableFreeAngle(Exp(X, -a) * M * Exp(Z, -z), Y, P3.p, free[4]);
+        y = elbow.ReachableFreeAngle(XM * Exp(Z, -z), Y, P3.p, free[4]);
+        cs_y = CosSin::Of(y);
       }
-      const Isometry3d P = Exp(X, -a) * M * Exp(Z, -z) * Exp(Y, -y);
+      const Isometry3d P = XM * Exp(Z, cs_z.Negated()) * Exp(Y, cs_y.Negated());
+      const Vector3d P_e = P.linear() * e;
       // Elbow: the point of axis P3 goes from s to t by turns about P2 then P1 (circle intersection).
       const Vector3d s = P3.p, t = P * P3.p;
       const double r1 = elbow.Flat(t - P1.p).norm();
@@ -239,16 +280,17 @@ void NominalInverseKinematics::Impl::ParallelBranches(const Isometry3d& M, const
         q[0] = a;
         q[4] = y;
         q[5] = z;
-        q[2] = Subproblem1(P2.w, s - P2.p, x - c2);
+        CosSin cs_1, cs_2;
+        q[2] = Subproblem1(P2.w, s - P2.p, x - c2, nullptr, &cs_2);
         bool free_1 = false;
-        q[1] = Subproblem1(P1.w, x - c1, t - P1.p, &free_1);
+        q[1] = Subproblem1(P1.w, x - c1, t - P1.p, &free_1, &cs_1);
         if (free_1) {
           // The elbow folded onto axis P1 (links of equal length): every turn about it does.
           q[1] = free[1];
+          cs_1 = CosSin::Of(q[1]);
           *free_mask |= 2;
         }
-        const Vector3d e = Across(P3.w);
-        q[3] = Subproblem1(P3.w, e, (Rot(P1.w, q[1]) * Rot(P2.w, q[2])).transpose() * P.linear() * e);
+        q[3] = Subproblem1(P3.w, e, Rot(P2.w, cs_2).transpose() * (Rot(P1.w, cs_1).transpose() * P_e));
         out->Push(q);
         if (h2 == 0.0) break;  // one elbow
       }
@@ -282,39 +324,46 @@ BranchList NominalInverseKinematics::Impl::Branches(const Isometry3d& T, const V
   return out;
 }
 
-void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe) const {
+void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, double* pe, double* oe,
+                                            Matrix6Xd* jacobian) const {
   const KinematicModel& model = robot.model();
-  Vector6d e = PoseError(model.ForwardKinematics(*q), T);
+  // The pose and the Jacobian of each iterate from one pass of the model (the Jacobian of the last one
+  // goes to the singularity test).
+  Matrix6Xd J, J_trial;
+  Vector6d e = PoseError(PoseAndJointJacobian(model, *q, &J), T);
   double cost = e.squaredNorm();
   for (int it = 0; it < 8 && cost > 1e-28; ++it) {
     // Closed-form branches exist for 6 joints only (Detect): fixed 6 x 6 normal equations (dynamic ones
     // cost 4.5 s more CPU to compile at -O3; Eigen evaluates a 6 x 6 dynamic product coefficient-wise
     // too, and the results are the same).
-    const Matrix6d J = model.JointJacobian(*q);
-    Matrix6d H = J.transpose() * J;
+    const Matrix6d A = J;
+    Matrix6d H = A.transpose() * A;
     H.diagonal().array() += 1e-14 * std::max(1.0, H.diagonal().maxCoeff());
-    const VectorXd step = H.ldlt().solve(J.transpose() * e);
+    const VectorXd step = H.ldlt().solve(A.transpose() * e);
     if (!step.allFinite()) break;
     const VectorXd trial = *q + step;
-    const Vector6d e_trial = PoseError(model.ForwardKinematics(trial), T);
+    const Vector6d e_trial = PoseError(PoseAndJointJacobian(model, trial, &J_trial), T);
     if (!(e_trial.squaredNorm() < cost)) break;
     *q = trial;
     e = e_trial;
+    J.swap(J_trial);
     cost = e.squaredNorm();
   }
   *pe = e.head<3>().norm();
   *oe = e.tail<3>().norm();
+  if (jacobian) jacobian->swap(J);
 }
 
-bool NominalInverseKinematics::Impl::Singular(const VectorXd& q) const {
-  const Matrix6Xd J = robot.model().JointJacobian(q);
+bool NominalInverseKinematics::Impl::Singular(const VectorXd& q, const Matrix6Xd* jacobian) const {
+  Matrix6Xd computed;
+  const Matrix6Xd& J = jacobian ? *jacobian : (computed = robot.model().JointJacobian(q));
   if (J.cols() < 6) return true;
   if (J.cols() == 6) {
     // r = sigma_min / sigma_max is bracketed without an SVD: sigma_max <= |J|_F <= sqrt(6) sigma_max and
     // 1 / sigma_min <= |J^-1|_F <= sqrt(6) / sigma_min give r / 6 <= 1 / (|J|_F |J^-1|_F) <= r. Only a
     // ratio inside that factor of 6 of the threshold (or an exactly singular LU) needs the SVD.
     const Matrix6d A = J;
-    const double bound = 1.0 / (A.norm() * Eigen::PartialPivLU<Matrix6d>(A).inverse().norm());
+    const double bound = 1.0 / (A.norm() * InverseNorm(A));
     if (bound >= options.singular_ratio) return false;
     if (6 * bound < options.singular_ratio) return true;
   }
@@ -423,7 +472,9 @@ bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd&
     t.q = branches->item[candidates[c].branch];
     t.branch = candidates[c].branch;
     t.closed_form = true;
-    Polish(T, &t.q, &t.position_error, &t.orientation_error);
+    Matrix6Xd J;
+    Polish(T, &t.q, &t.position_error, &t.orientation_error, &J);
+    const Vector6d polished = t.q;
     if (!(t.position_error <= options.position_tolerance && t.orientation_error <= options.orientation_tolerance)) {
       if (unfinished && unfinished->size() == 0 && candidates[c].rank < 2) *unfinished = t.q;
       continue;
@@ -440,7 +491,8 @@ bool NominalInverseKinematics::Impl::Choose(const Isometry3d& T, const VectorXd&
       }
     }
     if (inside) {
-      t.status = Singular(t.q) ? IkStatus::kSingular : IkStatus::kSolved;
+      // The polish's Jacobian unless the joints moved since (whole turns or a clamp).
+      t.status = Singular(t.q, t.q == polished ? &J : nullptr) ? IkStatus::kSingular : IkStatus::kSolved;
       *s = t;
       return true;
     }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "framework/math.h"
+#include "models/chain_model.h"
+
 namespace kincal {
 namespace {
 
@@ -17,7 +20,11 @@ class PoseMatrixResidual final : public PoseResidual {
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
                 double* orientation_error) const override {
-    const Eigen::Matrix4d delta = T_a_ - model_.ForwardKinematics(q).matrix();
+    // The Jacobian comes from the same pass; Linearize takes it (and the rotation) when asked at these
+    // joints (after an accepted step, as the iteration does).
+    T_ = PoseAndJointJacobian(model_, q, &J_);
+    q_ = q;
+    const Eigen::Matrix4d delta = T_a_ - T_.matrix();
     const Eigen::Vector3d dp = delta.block<3, 1>(0, 3);
     *position_error = dp.norm();
     if (position_only_) {
@@ -33,15 +40,24 @@ class PoseMatrixResidual final : public PoseResidual {
   }
 
   void Linearize(const Eigen::VectorXd& q, Eigen::MatrixXd* A) const override {
-    const std::vector<Eigen::Matrix4d> dT = model_.PoseDerivatives(q);  // eq. 11
-    const int n = static_cast<int>(dT.size());
+    if (!(q_.size() == q.size() && q_ == q)) {
+      T_ = PoseAndJointJacobian(model_, q, &J_);
+      q_ = q;
+    }
+    // Eq. 11 from the Jacobian: dT/dq_i = [omega_i x R, v_i] (ChainModel::PoseDerivatives).
+    const int n = static_cast<int>(J_.cols());
     if (position_only_) {
       A->resize(3, n);
-      for (int i = 0; i < n; ++i) A->col(i) = dT[i].block<3, 1>(0, 3) * inverse_scale_;
+      for (int i = 0; i < n; ++i) A->col(i) = J_.col(i).head<3>() * inverse_scale_;
       return;
     }
     A->resize(12, n);
-    for (int i = 0; i < n; ++i) Stack(dT[i], A->col(i).data());
+    Eigen::Matrix4d dT = Eigen::Matrix4d::Zero();
+    for (int i = 0; i < n; ++i) {
+      dT.topLeftCorner<3, 3>() = Skew(J_.col(i).tail<3>()) * T_.linear();
+      dT.topRightCorner<3, 1>() = J_.col(i).head<3>();
+      Stack(dT, A->col(i).data());
+    }
   }
 
  private:
@@ -57,6 +73,9 @@ class PoseMatrixResidual final : public PoseResidual {
   const Eigen::Matrix4d T_a_;
   const bool position_only_;
   const double inverse_scale_;
+  mutable Eigen::VectorXd q_;  // the joints of the last evaluation, their pose and Jacobian
+  mutable Eigen::Isometry3d T_;
+  mutable Matrix6Xd J_;
 };
 
 }  // namespace

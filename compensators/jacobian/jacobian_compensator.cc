@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "framework/math.h"
+#include "models/chain_model.h"
 
 namespace kincal {
 namespace {
@@ -17,7 +18,10 @@ class TwistResidual final : public PoseResidual {
 
   void Evaluate(const Eigen::VectorXd& q, Eigen::VectorXd* r, double* position_error,
                 double* orientation_error) const override {
-    const Eigen::Isometry3d T_c = model_.ForwardKinematics(q);
+    // The Jacobian comes from the same pass; Linearize takes it when asked at these joints (after
+    // an accepted step, as the iteration does).
+    const Eigen::Isometry3d T_c = PoseAndJointJacobian(model_, q, &J_);
+    q_ = q;
     const Eigen::Vector3d dp = T_a_.translation() - T_c.translation();
     *position_error = dp.norm();
     if (position_only_) {
@@ -32,7 +36,11 @@ class TwistResidual final : public PoseResidual {
   }
 
   void Linearize(const Eigen::VectorXd& q, Eigen::MatrixXd* A) const override {
-    const Matrix6Xd J = model_.JointJacobian(q);
+    if (!(q_.size() == q.size() && q_ == q)) {
+      J_ = model_.JointJacobian(q);
+      q_ = q;
+    }
+    const Matrix6Xd& J = J_;
     if (position_only_) {
       *A = J.topRows<3>() * inverse_scale_;
       return;
@@ -46,6 +54,8 @@ class TwistResidual final : public PoseResidual {
   const Eigen::Isometry3d T_a_;
   const bool position_only_;
   const double inverse_scale_;
+  mutable Eigen::VectorXd q_;  // the joints of the last evaluation, and their Jacobian
+  mutable Matrix6Xd J_;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "framework/random.h"
 #include "models/dh_model.h"
 #include "models/hayati_model.h"
+#include "models/joint_error_regressors.h"
 #include "models/mdh_model.h"
 #include "models/poe_model.h"
 #include "tests/support/test_util.h"
@@ -97,6 +98,97 @@ TEST_P(JointErrorRegressors, MapDerivativesFollowTheCoefficients) {
   };
   EXPECT_LT((map.dq_dprevious - CentralDifference(q_of_previous, previous)).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((map.q - qbar - JointOffsets(errors, map.phi, 6)).norm(), 1e-15);
+}
+
+// The one-pass evaluation (models/joint_error_regressors.h) against EvaluateRegressors, which moves each
+// gravity regressor along each twist on its own: regressors to the bit, derivatives to rounding; and its
+// derivatives against central differences of its own regressors. Rows with and without a previous pose,
+// with and without each derivative, one Row reused throughout (stale sizes must not leak between rows).
+TEST_P(JointErrorRegressors, OnePassMatchesTheRegressorsOneByOne) {
+  const auto model = RandomizedModel(GetParam().make(), 9);
+  const JointErrors errors = AllTypes(*model);
+  const Eigen::VectorXd v = (Eigen::VectorXd(6) << 2.0, 2.5, 3.0, 4.0, 5.0, 6.0).finished();
+  const JointErrorContext context{model.get(), Eigen::Vector3d(0.3, 0.1, -1.0).normalized(), &v};
+  const PreparedRegressors prepared(errors, *model);
+  ASSERT_EQ(prepared.num_coefficients(), errors.num_coefficients());
+  PreparedRegressors::Row row;
+  Rng rng(17);
+  for (int trial = 0; trial < 6; ++trial) {
+    Eigen::VectorXd qbar(6), previous(6);
+    for (int i = 0; i < 6; ++i) qbar[i] = rng.Uniform(-3, 3), previous[i] = rng.Uniform(-3, 3);
+    const Eigen::VectorXd* prev = trial % 3 == 2 ? nullptr : &previous;
+    const PreparedRegressors::Want want{trial != 1, trial % 2 == 0, trial != 3};
+    Eigen::MatrixXd d_qbar, d_previous, d_parameters;
+    const Eigen::VectorXd phi = EvaluateRegressors(errors, context, qbar, prev, {&d_qbar, &d_previous, &d_parameters});
+    prepared.Evaluate(context, qbar, prev, want, &row);
+    EXPECT_EQ(row.phi, phi) << "trial " << trial;
+    const double scale = 1.0 + d_parameters.cwiseAbs().maxCoeff();
+    if (want.qbar) {
+      EXPECT_LT((row.d_qbar - d_qbar).cwiseAbs().maxCoeff(), 1e-14 * scale) << "trial " << trial;
+    }
+    if (want.previous) {
+      EXPECT_EQ(row.d_previous, d_previous) << "trial " << trial;
+    }
+    if (want.parameters) {
+      EXPECT_LT((row.d_parameters - d_parameters).cwiseAbs().maxCoeff(), 1e-14 * scale) << "trial " << trial;
+    }
+    if (!want.qbar || !want.parameters) continue;
+    const auto at_qbar = [&](const Eigen::VectorXd& x) {
+      PreparedRegressors::Row r;
+      prepared.Evaluate(context, x, prev, {}, &r);
+      return r.phi;
+    };
+    EXPECT_LT((row.d_qbar - CentralDifference(at_qbar, qbar)).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
+    auto copy = model->Clone();
+    JointErrorContext moved = context;
+    moved.model = copy.get();
+    const auto at_parameters = [&](const Eigen::VectorXd& p) {
+      copy->SetParameters(p);
+      PreparedRegressors::Row r;
+      prepared.Evaluate(moved, qbar, prev, {}, &r);
+      return r.phi;
+    };
+    EXPECT_LT((row.d_parameters - CentralDifference(at_parameters, model->Parameters())).cwiseAbs().maxCoeff(), 1e-8);
+  }
+}
+
+// The one-pass map is EvaluateJointErrorMap's: q to the bit, derivatives to rounding; and it refuses joint
+// errors other than the ones prepared for.
+TEST_P(JointErrorRegressors, OnePassMapMatchesTheMap) {
+  const auto model = RandomizedModel(GetParam().make(), 10);
+  JointErrors errors = AllTypes(*model);
+  Rng rng(5);
+  Eigen::VectorXd c(errors.num_coefficients());
+  for (int k = 0; k < c.size(); ++k) c[k] = rng.Uniform(-0.01, 0.01);
+  errors.SetCoefficients(c);
+  const Eigen::VectorXd v = Eigen::VectorXd::Constant(6, 3.0);
+  const JointErrorContext context{model.get(), -Eigen::Vector3d::UnitZ(), &v};
+  const Eigen::VectorXd qbar = (Eigen::VectorXd(6) << 0.4, -0.6, 1.2, 0.1, -1.1, 2.2).finished();
+  const Eigen::VectorXd previous = (Eigen::VectorXd(6) << 0.2, -0.1, 0.4, 0.8, -1.2, 1.1).finished();
+  JointErrorMap expected, map;
+  EvaluateJointErrorMap(errors, context, qbar, &previous, {true, true, true}, &expected);
+  const PreparedRegressors prepared(errors, *model);
+  PreparedRegressors::Row row;
+  prepared.EvaluateMap(errors, context, qbar, &previous, {true, true, true}, &row, &map);
+  EXPECT_EQ(map.q, expected.q);
+  EXPECT_EQ(map.phi, expected.phi);
+  // Derivatives summed in another order: to rounding of their terms (coefficients 1e-2 times regressor
+  // derivatives of order 1).
+  EXPECT_LT((map.dq_dqbar - expected.dq_dqbar).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_EQ(map.dq_dprevious, expected.dq_dprevious);
+  EXPECT_LT((map.dq_dparameters - expected.dq_dparameters).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_GT(expected.dq_dparameters.cwiseAbs().maxCoeff(), 1e-3);  // the comparison is not of zeros
+  // A second row through the same scratch: no state carried over.
+  const Eigen::VectorXd qbar2 = (Eigen::VectorXd(6) << -1.0, 0.3, -0.2, 1.5, 0.7, -2.0).finished();
+  EvaluateJointErrorMap(errors, context, qbar2, nullptr, {true, false, true}, &expected);
+  prepared.EvaluateMap(errors, context, qbar2, nullptr, {true, false, true}, &row, &map);
+  EXPECT_EQ(map.q, expected.q);
+  EXPECT_LT((map.dq_dqbar - expected.dq_dqbar).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((map.dq_dparameters - expected.dq_dparameters).cwiseAbs().maxCoeff(), 1e-15);
+  JointErrors other;
+  other.terms = {Term(T::kBacklash, 0)};
+  other.Bind(*model);
+  EXPECT_THROW(prepared.EvaluateMap(other, context, qbar, &previous, {}, &row, &map), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(Conventions, JointErrorRegressors,
