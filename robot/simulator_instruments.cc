@@ -101,6 +101,7 @@ std::vector<Fixture> InstrumentFixtures(const Robot& nominal, const Robot& truth
   Rng rng(Rng::Derive(seed, 0x66697874ULL));
   const Eigen::Matrix3d corner = RotationExp(M_PI * RandomDirection(&rng) * rng.Uniform01());
   const Eigen::Vector3d tool_marker = truth.MarkerPosition(marker);
+  const double first_azimuth = rng.Uniform(-M_PI, M_PI);
   for (int i = 0; i < options.fixtures; ++i) {
     Fixture f;
     f.type = type;
@@ -109,7 +110,8 @@ std::vector<Fixture> InstrumentFixtures(const Robot& nominal, const Robot& truth
     // Reachable: the marker of the truth arm at random commanded angles within the limits.
     const Eigen::Vector3d reached = truth.model().ForwardKinematics(RandomWithinLimits(nominal, &rng)) * tool_marker;
     if (type == Fixture::Type::kPivot) {
-      const double azimuth = rng.Uniform(-M_PI, M_PI), elevation = rng.Uniform(0.0, M_PI / 6);
+      // Spread about the base (a random turn, then equal steps), so that no two pivots coincide.
+      const double azimuth = first_azimuth + 2.0 * M_PI * i / options.fixtures, elevation = rng.Uniform(0.0, M_PI / 6);
       const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                                       std::sin(elevation));
       f.position = truth.model().base() * (options.pivot_distance * direction);

@@ -34,8 +34,9 @@ struct InstrumentOptions {
 
 // The fixtures the instrument measures against (none for point and partial): the truth's own of the
 // type, else random ones from `seed`: pivots at pivot_distance from the base origin, up to 30 degrees
-// above its x-y plane; planes through the marker at random configurations, normals the axes of one random
-// rotation (a corner's floor and walls); sockets at the marker of random configurations.
+// above its x-y plane, spread evenly about its z axis; planes through the marker at random
+// configurations, normals the axes of one random rotation (a corner's floor and walls); sockets at the
+// marker of random configurations.
 std::vector<Fixture> InstrumentFixtures(const Robot& nominal, const Robot& truth, const InstrumentOptions& options,
                                         const std::string& marker, uint64_t seed);
 
