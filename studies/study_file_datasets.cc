@@ -35,6 +35,12 @@ void ReadSimulator(const Reader& r, const YAML::Node& node, const std::string& k
                 o.noise_range_coefficient * 1e6);
   d->summary += text;
   if (o.orientation) d->summary += ", with orientation";
+  const InstrumentOptions& instrument = o.instrument;
+  if (instrument.instrument == "partial") d->summary += ", a gauge reading " + instrument.axes;
+  if (instrument.instrument == "distance" || instrument.Contacts()) {
+    d->summary += ", " + instrument.instrument + " instrument (the truth's fixtures, or " +
+                  std::to_string(instrument.fixtures) + " random ones)";
+  }
   if (d->marker) {
     std::snprintf(text, sizeof(text), ", marker at [%.4g, %.4g, %.4g] mm", (*d->marker)[0] * 1e3, (*d->marker)[1] * 1e3,
                   (*d->marker)[2] * 1e3);
