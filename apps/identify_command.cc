@@ -8,6 +8,7 @@
 // and scored on the held-out ones, beside the chosen one (estimators/selection/selection_audit.h).
 // Methods run in order, each refining the robot of the one before (a pipeline). With a `split` column,
 // the train rows identify and the test rows validate.
+#include <cstdio>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -67,10 +68,31 @@ Robot RegisteredNominal(const Robot& nominal, const Dataset& train) {
   return nominal;
 }
 
+// The geometry-only model fitted as the identified one was: the same stages, the last with every joint-level
+// term held and no selection. False where the robot has no joint-level terms or the last stage cannot hold
+// them (not an error-model estimator).
+bool FitGeometryOnly(const std::vector<std::string>& methods, std::vector<YAML::Node> options, const Robot& nominal,
+                     const Dataset& train, Robot* geometry) {
+  if (nominal.joint_errors.terms.empty()) return false;
+  try {
+    YAML::Node last = options.back() && options.back().IsMap() ? YAML::Clone(options.back())
+                                                                : YAML::Node(YAML::NodeType::Map);
+    last.remove("select");
+    last["fixed"].push_back("joint_errors");
+    options.back() = last;
+    const std::vector<EstimationReport> reports = RunPipeline(methods, options, nominal, train, geometry);
+    return reports.back().status != EstimationStatus::kFailed;
+  } catch (const std::exception&) {
+    return false;  // a last stage that cannot hold the joint-level terms: nothing to compare with
+  }
+}
+
 // The identified robot scored on the held-out rows (printed), against the nominal registered on the
-// training rows; the report's "validation".
+// training rows; the report's "validation". With `geometry` (the geometry-only fit on the same rows), a
+// model whose held-out RMS exceeds geometry's by more than half gets the status
+// heldout_worse_than_geometry, said on stderr and in the report (`status`, `geometry`).
 nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dataset& train, const Dataset& heldout,
-                        const EstimationReport& last) {
+                        const EstimationReport& last, const Robot* geometry) {
   nlohmann::json json;
   const PredictionErrors unregistered = EvaluatePredictions(nominal, nominal, heldout);
   // "nominal" is the nominal geometry registered on the training rows (base, sessions, tool and
@@ -88,6 +110,22 @@ nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dat
           {"identified", StatsJson(after.position_stats, mm)},
           {"nominal", StatsJson(before.position_stats, mm)},
           {"nominal_unregistered", StatsJson(unregistered.position_stats, mm)}};
+  json["status"] = "ok";
+  if (geometry) {
+    const PredictionErrors geo = EvaluatePredictions(nominal, *geometry, heldout);
+    json["geometry"] = StatsJson(geo.position_stats, mm);
+    const double ratio = after.position_stats.rms / geo.position_stats.rms;
+    std::printf("held-out RMS of geometry alone fitted on the same rows: %.4f mm (the model: %.3f x)\n",
+                geo.position_stats.rms * mm, ratio);
+    if (ratio > 1.5) {
+      json["status"] = "heldout_worse_than_geometry";
+      std::fprintf(stderr,
+                   "kincal: warning: the identified model predicts the held-out rows %.2f x worse than geometry "
+                   "alone fitted on the same rows (RMS %.4f mm against %.4f mm): status "
+                   "heldout_worse_than_geometry\n",
+                   ratio, after.position_stats.rms * mm, geo.position_stats.rms * mm);
+    }
+  }
   if (last.details.contains("prediction_covariance")) {
     // Prediction uncertainty of the held-out rows (estimators/error_model/prediction_uncertainty.h).
     const PredictionCovariance cov = PredictionCovariance::FromJson(last.details["prediction_covariance"]);
@@ -206,7 +244,11 @@ void AddIdentifyCommand(CLI::App& app) {
       PrintStage(r, a->report);
       json["stages"].push_back(r.ToJson());
     }
-    if (have_heldout) json["validation"] = Validate(nominal, identified, train, heldout, reports.back());
+    if (have_heldout) {
+      Robot geometry;
+      const bool compare = NamingFile(a->data, [&] { return FitGeometryOnly(methods, options, nominal, train, &geometry); });
+      json["validation"] = Validate(nominal, identified, train, heldout, reports.back(), compare ? &geometry : nullptr);
+    }
     // Both outputs are prepared before either is written, and each is written atomically.
     const std::string robot_text = RobotToYaml(identified);
     if (!a->report.empty()) WriteFileAtomically(a->report, json.dump(2) + "\n");

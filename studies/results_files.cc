@@ -184,6 +184,37 @@ StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant
   return t;
 }
 
+void FlagWorseThanGeometry(ResultTable* results) {
+  const ResultTable& t = *results;
+  const int dataset = t.Column("dataset"), knob = t.Column("knob"), value = t.Column("knob_value"),
+            trial = t.Column("trial"), estimator = t.Column("estimator"), compensator = t.Column("compensator"),
+            validation = t.Column("validation"), rms = t.Column("position_error_rms_mm"), status = t.Column("status"),
+            note = t.Column("note");
+  if (std::min({dataset, knob, value, trial, estimator, compensator, validation, rms, status, note}) < 0) return;
+  // The model's own held-out rows (compensator "-"), keyed by the data they were scored on.
+  const auto key = [&](size_t r) {
+    return t.Text(r, dataset) + "\x1f" + t.Text(r, knob) + "\x1f" + t.Text(r, value) + "\x1f" + t.Text(r, trial);
+  };
+  const auto heldout = [&](size_t r) { return t.Text(r, compensator) == "-" && t.Text(r, validation) == "heldout"; };
+  std::map<std::string, double> geometry;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    if (heldout(r) && t.Text(r, estimator) == kGeometryEstimator) geometry[key(r)] = t.Number(r, rms);
+  }
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    // The baseline `none` is the nominal geometry, registered: worse than geometry by design.
+    if (!heldout(r) || t.Text(r, status) != "ok" || t.Text(r, estimator) == "none") continue;
+    const auto it = geometry.find(key(r));
+    if (it == geometry.end() || !(it->second > 0.0)) continue;
+    const double ratio = t.Number(r, rms) / it->second;
+    if (!(ratio > kWorseThanGeometry)) continue;
+    results->rows[r][status] = "heldout_worse_than_geometry";
+    const std::string why = "held-out RMS " + FormatResultNumber(ratio, 3) + " x the geometry row's (" +
+                            FormatResultNumber(it->second, 4) + " mm)";
+    std::string& cell = results->rows[r][note];
+    cell = cell.empty() ? why : cell + "; " + why;
+  }
+}
+
 void WriteStudyFiles(const std::string& dir, const nlohmann::json& manifest, const std::string& shard,
                      const StudyTables& tables) {
   std::filesystem::create_directories(dir);
@@ -272,6 +303,7 @@ void MergeShards(const std::vector<std::string>& dirs, const std::string& out) {
     std::stable_sort(keyed[f].begin(), keyed[f].end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& kv : keyed[f]) to[f]->rows.push_back(std::move(kv.second));
   }
+  FlagWorseThanGeometry(&merged.results);
   WriteStudyFiles(out, reference, "1/1", merged);
 }
 

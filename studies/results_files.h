@@ -59,6 +59,14 @@ inline const char* const kStudyTableFiles[StudyTables::kCount] = {
 StudyTables MakeStudyTables(const Study& study, const std::vector<DatasetVariant>& variants,
                             const std::vector<ItemResult>& results);
 
+// A model that predicts its held-out rows worse than geometry alone on the same data (the row of the
+// estimator named `geometry`, same dataset, variant and trial) by more than kWorseThanGeometry is not
+// blessed: its heldout row's status `ok` becomes `heldout_worse_than_geometry`, with the ratio in its note.
+// Run on a whole study's results (unsharded, or merged), where the geometry row is at hand.
+inline constexpr const char* kGeometryEstimator = "geometry";
+inline constexpr double kWorseThanGeometry = 1.5;
+void FlagWorseThanGeometry(ResultTable* results);
+
 // Writes study.json (the manifest plus "shard") and the tables into `dir` (created if needed).
 void WriteStudyFiles(const std::string& dir, const nlohmann::json& manifest, const std::string& shard,
                      const StudyTables& tables);

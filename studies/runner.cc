@@ -163,6 +163,7 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
         for (auto& row : from[f]->rows) to[f]->rows.push_back(std::move(row));
       }
     }
+    if (options.shard_count == 1) FlagWorseThanGeometry(&tables.results);  // merge flags the shards'
     const nlohmann::json manifest = StudyManifest(study, evaluator.variants(), num_items);
     WriteStudyFiles(out_dir, manifest, std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count),
                     tables);

@@ -119,13 +119,33 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
     return false;
   }
   std::string freed, held;
+  bool frees_joint_level = false, holds_geometry = false;
+  const auto group_of = [&](const std::string& name) {
+    for (const auto& c : prep->problem->candidates()) {
+      if (c.name == name) return c.group;
+    }
+    return ErrorModelParameter::Group::kBase;
+  };
   for (const auto& name : prep->identifiability.unidentifiable_names) {
     const auto& now = next.identifiability.unidentifiable_names;
-    if (std::find(now.begin(), now.end(), name) == now.end()) freed += " " + name;
+    if (std::find(now.begin(), now.end(), name) != now.end()) continue;
+    freed += " " + name;
+    frees_joint_level = frees_joint_level || group_of(name) == ErrorModelParameter::Group::kJointError;
   }
   for (const auto& name : next.identifiability.unidentifiable_names) {
     const auto& before = prep->identifiability.unidentifiable_names;
-    if (std::find(before.begin(), before.end(), name) == before.end()) held += " " + name;
+    if (std::find(before.begin(), before.end(), name) != before.end()) continue;
+    held += " " + name;
+    holds_geometry = holds_geometry || group_of(name) == ErrorModelParameter::Group::kJoint;
+  }
+  // Joint-level terms are corrections to a geometry the data determine: a solution where they would take
+  // over what the link geometry did (the joint errors rank first in the analysis, so the geometry is what
+  // it holds) has run off along the terms' near-null directions, not found new information.
+  if (frees_joint_level && holds_geometry) {
+    prep->warnings.push_back("identifiability re-analysed at the first solution would hold" + held +
+                             " to free" + freed + ": kept as analysed at the start");
+    *x = solution;
+    return false;
   }
   next.warnings.push_back("identifiability re-analysed at the first solution:" +
                           (freed.empty() ? std::string() : " freed" + freed) + (held.empty() ? "" : ", held" + held));

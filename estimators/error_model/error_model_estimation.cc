@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
 
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/selection/select_error_model.h"
@@ -27,6 +30,37 @@ double SigmaAt(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const
                    problem.num_parameters());
 }
 
+// The data's own cost at x (no prior terms): a fit from its start may never end above it. With priors the
+// start sits at the prior means, so the posterior's minimum has a data cost no higher than the start's.
+double DataCost(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const RowWeighting& weighting) {
+  return AccumulateNormalEquations(*prep.problem, x, weighting, Accumulate::kCost, false).cost;
+}
+
+PreparedErrorModel CopyOf(const PreparedErrorModel& p) {
+  PreparedErrorModel c;
+  c.input = p.input;
+  c.start = p.start;
+  c.placed = p.placed;
+  c.problem = std::make_unique<ErrorModelProblem>(*p.problem);  // the rows stay shared
+  c.identifiability = p.identifiability;
+  c.initial = p.initial;
+  c.registered_rms = p.registered_rms;
+  c.warnings = p.warnings;
+  c.placement_notes = p.placement_notes;
+  c.weak = p.weak;
+  c.weak_held = p.weak_held;
+  return c;
+}
+
+// The lowest data cost the estimation has stood at (its start, or where a run ended), with the problem it
+// stood in: what is returned when the sequence ends above its start.
+struct BestIterate {
+  PreparedErrorModel prep;
+  Eigen::VectorXd x;
+  double cost = 0.0;
+  std::string where = "its start";
+};
+
 }  // namespace
 
 void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
@@ -44,10 +78,16 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   int iterations = 0;
   int spent = 0;  // of the budget, since the last start
   // A run that used its budget at a point within 0.1 standard deviations of the minimum reached it.
+  BestIterate best{CopyOf(prep), x, DataCost(prep, x, weighting)};
+  const double start_cost = best.cost;
+  int runs = 0;
   const auto run_from = [&]() {
     MinimizerRun run = minimize(prep, weighting, std::max(0, budget - spent), &x);
     iterations += run.iterations;
     spent += run.iterations;
+    ++runs;
+    const double cost = DataCost(prep, x, weighting);
+    if (cost < best.cost) best = {CopyOf(prep), x, cost, "the end of run " + std::to_string(runs)};
     if (run.status == EstimationStatus::kIterationLimit) {
       const NormalEquations ne = AccumulateNormalEquations(*prep.problem, x, weighting);
       if (WithinNoiseOfMinimum(ne, DataSigma(ne, prep.problem->num_parameters()))) {
@@ -96,6 +136,18 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       run = run_from();
       if (!converged(run)) break;
     }
+  }
+  // A fit never ends worse than it started: above its start's data cost (a run that diverged, a hold that
+  // left its partners far off), the best iterate is returned, and the status says it did not converge.
+  const double final_cost = DataCost(prep, x, weighting);
+  if (!(final_cost <= start_cost * (1.0 + 1e-12))) {  // NaN too
+    char costs[160];
+    std::snprintf(costs, sizeof(costs), "cost %.6g -> %.6g m^2", start_cost, final_cost);
+    run.status = EstimationStatus::kFailed;
+    run.message = "the fit ended above its start (" + std::string(costs) + "): returned the best iterate, at " +
+                  best.where + " (" + run.message + ")";
+    prep = std::move(best.prep);
+    x = best.x;
   }
   // Stopped short of the minimum: the parameters weak there are named all the same.
   if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run)) NameWeakParameters(x, weighting, &prep);

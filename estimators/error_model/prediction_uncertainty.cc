@@ -230,9 +230,13 @@ std::vector<double> PredictionSd(const Robot& model, const Robot& controller, co
                                  const PredictionCovariance& covariance) {
   if (data.rows.empty()) return {};
   // The problem needs more residuals than parameters: a short dataset is repeated (each row's Jacobian
-  // depends only on the row and its previous pose, which the first copy keeps).
+  // depends only on the row and its previous pose, which the first copy keeps). The problem frees every
+  // candidate the data can move, not only the covariance's: p bounds them all (geometry, joint-level
+  // coefficients, ratios, markers, session bases), so that no count of the padded rows reaches the user.
   Dataset padded = data;
-  const size_t p = covariance.names.size() + 64;
+  const size_t p = static_cast<size_t>(model.model().num_parameters() + model.joint_errors.num_coefficients() +
+                                       model.dof()) +
+                   3 * model.markers.size() + 6 * model.session_bases.size() + covariance.names.size() + 64;
   while (padded.rows.size() * 3 <= p) padded.rows.insert(padded.rows.end(), data.rows.begin(), data.rows.end());
   ErrorModelOptions options;
   options.initialize_bases = false;
