@@ -61,7 +61,9 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows(Rows* per_row) {
   per_row->q_ref.resize(static_cast<size_t>(rows) * n);
   per_row->marker.resize(rows);
   per_row->session.resize(rows);
-  per_row->orientation.resize(rows);
+  per_row->factor.resize(rows);
+  per_row->dimension.resize(rows);
+  const MeasurementFactor& point = FactorOfKind("point");
   RowSummary summary;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
@@ -77,14 +79,15 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows(Rows* per_row) {
                               ? -1
                               : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) -
                                                  session_ids_.begin());
-    per_row->orientation[i] = m.orientation.has_value();
+    per_row->factor[i] = &point;
+    per_row->dimension[i] = static_cast<unsigned char>(point.Dimension(m));
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
     }
     summary.any_session0 |= m.session == 0;
     summary.all_marked &= !m.marker.empty();
     summary.any_orientation |= m.orientation.has_value();
-    num_residuals_ += m.orientation ? 6 : 3;
+    num_residuals_ += per_row->dimension[i];
   }
   return summary;
 }

@@ -47,6 +47,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "estimators/error_model/factor.h"
 #include "framework/dataset.h"
 #include "framework/math.h"
 #include "framework/registry.h"
@@ -197,7 +198,7 @@ class ErrorModelProblem {
   int num_parameters() const { return static_cast<int>(free_.size()); }
   int num_rows() const { return static_cast<int>(data_->rows.size()); }
   int num_residuals() const { return num_residuals_; }
-  int RowResiduals(int row) const { return rows_->orientation[row] ? 6 : 3; }
+  int RowResiduals(int row) const { return rows_->dimension[row]; }
 
   const std::vector<ErrorModelParameter>& parameters() const { return free_; }
   // Every parameter the problem could free (free or held), in canonical order: the model's parameters,
@@ -229,6 +230,16 @@ class ErrorModelProblem {
   // KinematicModel::ParameterJacobian at the marker, chain rule for ratios, markers and sessions.
   int EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* workspace, Vector6d* residual,
                   Matrix6Xd* jacobian) const;
+  // The pose predictor EvaluateRow's factor reads: the row's marker position and tool orientation in
+  // the measurement frame of its session, and when pose_jacobian is not null their derivatives with
+  // respect to x (6 x num_parameters(): rows 0-2 dp/dx, rows 3-5 the tool's angular velocity per unit of
+  // x). Analytic: KinematicModel::ParameterJacobian at the marker, chain rule for ratios, joint errors,
+  // markers and sessions.
+  void PredictRowPose(int row, const Eigen::VectorXd& x, Workspace* workspace, PredictedPose* pose,
+                      Matrix6Xd* pose_jacobian) const;
+  // The factor of row `row`'s kind and what it needs beside the pose.
+  const MeasurementFactor& RowFactor(int row) const { return *rows_->factor[row]; }
+  FactorContext factor_context() const { return {options_.orientation_length}; }
 
   // Writes x into *robot (a copy of start()): model parameters, drives.ratio, markers, session_bases.
   void WriteToRobot(const Eigen::VectorXd& x, Robot* robot) const;
@@ -288,7 +299,8 @@ class ErrorModelProblem {
     std::vector<char> has_previous;
     std::vector<int> marker;   // index into marker_ids_, -1 for the tool origin
     std::vector<int> session;  // index into session_ids_, -1 for session 0
-    std::vector<char> orientation;
+    std::vector<const MeasurementFactor*> factor;  // the row's kind (factor.h)
+    std::vector<unsigned char> dimension;          // its number of residuals
   };
   std::shared_ptr<const Rows> rows_;
   std::vector<std::string> marker_ids_;

@@ -1,5 +1,6 @@
-// ErrorModelProblem's evaluation of one row (error_model_problem.h): the workspace set to x, the row's
-// actual joint angles, its residual and its Jacobian by the chain rule.
+// ErrorModelProblem's pose predictor (error_model_problem.h): the workspace set to x, the row's actual
+// joint angles, its predicted pose and the pose Jacobian by the chain rule; EvaluateRow hands them to the
+// row's factor (factor.h).
 #include <stdexcept>
 #include <string>
 
@@ -84,10 +85,9 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
 // What RowJacobian needs of the row's pose, from EvaluateRow.
 struct ErrorModelProblem::RowPose {
   int marker = -1, session = -1;
-  bool has_previous = false, oriented = false;
+  bool has_previous = false;
   Eigen::Vector3d point, p;  // the marker in the tool frame; its predicted position (measurement frame)
   Eigen::Isometry3d T_meas_tool;
-  Eigen::Matrix3d orientation_map;  // d(orientation residual) / d(rotation), where oriented
 };
 
 bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) const {
@@ -113,10 +113,9 @@ bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) co
   return has_previous;
 }
 
-int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
-                                   Matrix6Xd* jacobian) const {
+void ErrorModelProblem::PredictRowPose(int row, const Eigen::VectorXd& x, Workspace* ws, PredictedPose* predicted,
+                                       Matrix6Xd* jacobian) const {
   UpdateWorkspace(x, ws);
-  const Measurement& m = data_->rows[row];
   RowPose pose;
   pose.has_previous = RowJointAngles(row, jacobian != nullptr, ws);
   pose.marker = rows_->marker[row];
@@ -140,17 +139,21 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
     }
   }
   pose.p = T_meas_tool * pose.point;
-  residual->head<3>() = pose.p - m.p;
-  pose.oriented = rows_->orientation[row];
-  if (pose.oriented) {
-    const Eigen::Vector3d phi = RotationLog(T_meas_tool.linear() * m.orientation->toRotationMatrix().transpose());
-    residual->tail<3>() = options_.orientation_length * phi;
-    pose.orientation_map = options_.orientation_length * LeftJacobianInverseSO3(phi);
-  } else {
-    residual->tail<3>().setZero();
-  }
+  predicted->p = pose.p;
+  predicted->R = T_meas_tool.linear();
   if (jacobian) RowJacobian(pose, ws, jacobian);
-  return pose.oriented ? 6 : 3;
+}
+
+int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
+                                   Matrix6Xd* jacobian) const {
+  PredictedPose pose;
+  PredictRowPose(row, x, ws, &pose, jacobian);
+  const int k = rows_->factor[row]->Evaluate(data_->rows[row], factor_context(), pose, nullptr, residual, jacobian,
+                                             nullptr);
+  // The rows past k are zero, so that callers may read all six.
+  residual->tail(6 - k).setZero();
+  if (jacobian && jacobian->cols() > 0) jacobian->bottomRows(6 - k).setZero();
+  return k;
 }
 
 void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6Xd* jacobian) const {
@@ -221,12 +224,6 @@ void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6X
       const int c = session_column_[session][a];
       if (c >= 0) J.col(c) = Jb.col(a);
     }
-  }
-  if (J.cols() == 0) return;  // every parameter held: no columns to map
-  if (pose.oriented) {
-    J.bottomRows<3>() = pose.orientation_map * J.bottomRows<3>();
-  } else {
-    J.bottomRows<3>().setZero();
   }
 }
 
