@@ -61,6 +61,7 @@ void AddIkCommand(CLI::App& app) {
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
     const Dataset data = ReadDataset(a->targets);
+    data.RequireFullPoints("kincal ik (targets)");
     const int n = robot.dof();
     if (data.dof != 0 && data.dof != n) {
       ThrowInputError(data.source, data.header_line, 0,

@@ -80,7 +80,7 @@ void AddPredictCommand(CLI::App& app) {
     }
     const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
     for (size_t i = 0; i < predicted.size(); ++i) {  // never a NaN written silently
-      if (!predicted[i].allFinite() || !(predicted[i] - data.rows[i].p).allFinite()) {
+      if (!predicted[i].allFinite() || !RowResidual(robot, data, i, predicted[i]).allFinite()) {
         ThrowInputError(a->robot, 0, 0,
                         "the prediction for " + a->data + " line " + std::to_string(data.rows[i].line) +
                             " is not finite: values out of range in the robot file or the dataset");
@@ -96,7 +96,8 @@ void AddPredictCommand(CLI::App& app) {
     const bool marker = data.HasMarkers(), split = data.HasSplit(), session = data.HasSessions();
     double sum2 = 0.0;
     WriteFileAtomically(a->out, [&](std::ostream& out) {
-      out << "# kincal predict: " << a->robot << " on " << a->data << "; d = predicted - measured\n";
+      out << "# kincal predict: " << a->robot << " on " << a->data
+          << "; d = predicted - measured (points); error = the row's residual in its kind\n";
       out << "x_mm,y_mm,z_mm";
       if (marker) out << ",marker";
       if (split) out << ",split";
@@ -107,14 +108,18 @@ void AddPredictCommand(CLI::App& app) {
       for (size_t i = 0; i < data.rows.size(); ++i) {
         const Measurement& m = data.rows[i];
         const Eigen::Vector3d& p = predicted[i];
+        // d on the axes a point row measures; error: the norm of the row's residual in its own kind.
         const Eigen::Vector3d d = p - m.p;
-        sum2 += d.squaredNorm();
+        const double error = RowResidual(robot, data, i, p).norm();
+        sum2 += error * error;
+        const auto axis = [&](int k) {
+          return m.kind == MeasurementKind::kPoint && m.axes[k] ? FormatInUnit(d[k], mm) : std::string();
+        };
         out << FormatInUnit(p.x(), mm) << "," << FormatInUnit(p.y(), mm) << "," << FormatInUnit(p.z(), mm);
         if (marker) out << "," << m.marker;
         if (split) out << "," << (m.split == Split::kTrain ? "train" : m.split == Split::kTest ? "test" : "");
         if (session) out << "," << m.session;
-        out << "," << FormatInUnit(d.x(), mm) << "," << FormatInUnit(d.y(), mm) << "," << FormatInUnit(d.z(), mm) << ","
-            << FormatInUnit(d.norm(), mm);
+        out << "," << axis(0) << "," << axis(1) << "," << axis(2) << "," << FormatInUnit(error, mm);
         // sd_mm: (2) of prediction_uncertainty.h, the parameters' part and the model's inadequacy; the flag
         // is on the parameters' part.
         if (!sd.empty()) {

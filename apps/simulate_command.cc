@@ -1,5 +1,9 @@
 // kincal simulate --nominal N.yaml --truth T.yaml --protocol sweep|random ... --out DATA.csv
+#include <algorithm>
 #include <iostream>
+#include <map>
+
+#include <yaml-cpp/yaml.h>
 
 #include "apps/cli_util.h"
 #include "apps/commands.h"
@@ -37,7 +41,16 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--orientation-noise", a->orientation_noise_deg, "orientation noise per axis, deg");
   cmd->add_option("--seed", a->seed, "random seed (same seed, same file)");
   cmd->add_option("--out", a->out, "dataset to write (CSV)")->required();
-  cmd->callback([a]() {
+  // The instrument's options, declared once in its table: --instrument, --axes, --fixtures, ...
+  auto instrument = std::make_shared<std::map<std::string, std::string>>();
+  for (const OptionDoc& doc : InstrumentOptions::Table().Docs()) {
+    std::string flag = "--" + doc.key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    cmd->add_option_function<std::string>(
+        flag, [instrument, key = doc.key](const std::string& value) { (*instrument)[key] = value; },
+        doc.doc + " (" + doc.type + ", default " + doc.default_value + ")");
+  }
+  cmd->callback([a, instrument]() {
     const Robot nominal = ReadRobotFile(a->nominal);
     const Robot truth = ReadRobotFile(a->truth);
     SimulatorOptions o;
@@ -50,6 +63,9 @@ void AddSimulateCommand(CLI::App& app) {
     o.orientation = a->orientation;
     o.orientation_noise = a->orientation_noise_deg * M_PI / 180.0;
     o.seed = a->seed;
+    YAML::Node given(YAML::NodeType::Map);
+    for (const auto& [key, value] : *instrument) given[key] = value;
+    o.instrument = InstrumentOptions::Table().Read(given);
     o.length_unit = nominal.length_unit;
     o.angle_unit = nominal.angle_unit;
     if (!a->start.empty()) o.start = ParseList(a->start, nominal.angle_unit, "--start");
@@ -60,10 +76,11 @@ void AddSimulateCommand(CLI::App& app) {
     std::string why;
     if (!o.IsValid(&why)) ThrowInputError("simulate: " + why);
     Dataset data = Simulate(nominal, truth, o);
-    data.comments = {"kincal simulate: nominal " + a->nominal + ", truth " + a->truth + ", protocol " + o.protocol +
-                         ", seed " + std::to_string(o.seed),
-                     "noise sigma per axis: " + a->noise + " (" + nominal.length_unit.name + " if no unit) + " +
-                         a->noise_range + " per m of range"};
+    data.comments.insert(data.comments.begin(),
+                         {"kincal simulate: nominal " + a->nominal + ", truth " + a->truth + ", protocol " +
+                              o.protocol + ", instrument " + o.instrument.instrument + ", seed " + std::to_string(o.seed),
+                          "noise sigma (per axis; along a distance or a plane's normal): " + a->noise + " (" +
+                              nominal.length_unit.name + " if no unit) + " + a->noise_range + " per m of range"});
     WriteDataset(data, a->out);
     std::cout << "wrote " << data.rows.size() << " rows to " << a->out << "\n";
   });

@@ -16,6 +16,7 @@ std::vector<CompensationTarget> CompensationTargetsFrom(const Dataset& data, int
                     "sweep, marker, session and split columns have no meaning here");
   }
   if (data.rows.empty()) ThrowInputError(data.source, 0, 0, "no targets");
+  data.RequireFullPoints("compensation");
   std::vector<CompensationTarget> targets(data.rows.size());
   for (size_t i = 0; i < data.rows.size(); ++i) {
     const Measurement& m = data.rows[i];

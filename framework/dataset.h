@@ -1,6 +1,7 @@
 #pragma once
 // Dataset: measurements of a robot, one row per measurement (DESIGN.md "File contracts (v1)").
 // Everything is SI here; the file's units are remembered only to write it back the same way.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -15,10 +16,20 @@ namespace kincal {
 
 enum class Split { kNone, kTrain, kTest };
 
+// What a row measures of its marker. A pose is a kPoint with an orientation; a partial point (a gauge, a
+// table of known height) is a kPoint with only some axes.
+enum class MeasurementKind { kPoint, kDistance, kPlane, kFixedPoint };
+std::string MeasurementKindName(MeasurementKind kind);  // "point", "distance", "plane", "fixed_point"
+
 struct Measurement {
   Eigen::VectorXd q;                              // commanded joint angles, rad (m for prismatic)
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // measured marker position in the measurement frame, m
-  std::optional<Eigen::Quaterniond> orientation;  // measured tool orientation, if any
+  MeasurementKind kind = MeasurementKind::kPoint;
+  // kPoint: measured marker position in the measurement frame, m; an axis not measured holds 0.
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  std::array<bool, 3> axes{{true, true, true}};   // kPoint: which of x, y, z the row measures
+  double distance = 0.0;                          // kDistance: marker-to-pivot distance, m (>= 0)
+  std::string fixture;                            // kDistance: pivot; kPlane: plane; kFixedPoint: point name
+  std::optional<Eigen::Quaterniond> orientation;  // measured tool orientation, if any (full points only)
   std::vector<int64_t> encoders;                  // motor encoder counts; empty if not recorded
   int sweep = 0;                                  // 1-based joint being swept; 0 for a free pose
   std::string marker;                             // reflector id; "" for the tool origin
@@ -28,6 +39,10 @@ struct Measurement {
   // (from_q1_deg..from_qN_deg: rows filtered out of a longer sequence); see Dataset::PreviousPoses.
   std::optional<Eigen::VectorXd> from_q;
   int line = 0;  // line in the source file (for messages), 0 if made here
+
+  bool IsFullPoint() const { return kind == MeasurementKind::kPoint && axes[0] && axes[1] && axes[2]; }
+  // "a distance", "a plane contact", "a fixed point", "a partial point" or "a point" (for messages).
+  std::string Description() const;
 };
 
 struct Dataset {
@@ -46,6 +61,14 @@ struct Dataset {
   bool HasMarkers() const;
   bool HasSplit() const;
   bool HasFromColumns() const;
+  bool HasKind(MeasurementKind kind) const;
+  // Every row a point with all three axes (what methods that fit points themselves need).
+  bool AllFullPoints() const;
+  // Names of the fixtures (pivots, planes or points) the rows of `kind` name, in order of first appearance.
+  std::vector<std::string> FixtureNames(MeasurementKind kind) const;
+  // Throws std::invalid_argument "source:line: WHO needs point rows with x, y and z; row N is a distance"
+  // (the first row that is not a full point) unless AllFullPoints().
+  void RequireFullPoints(const std::string& who) const;
 
   // The pose that led to each row. Rows are in measurement order, so it is the last earlier row whose
   // joint values differ (rows that measure several markers at one pose share the move that led there),
@@ -69,8 +92,14 @@ struct Dataset {
   void Validate(int expected_dof) const;
 };
 
-// CSV columns: q1_deg..qN_deg (or _rad; _mm/_m for prismatic joints), x_mm,y_mm,z_mm (or _m), optional
-// enc1..encN, qw,qx,qy,qz, sweep, marker, session, split. '#' lines are comments.
+// CSV columns: q1_deg..qN_deg (or _rad; _mm/_m for prismatic joints), then what each row measures (rows
+// of different kinds may share a file):
+//   point: x_mm,y_mm,z_mm (or _m); an empty cell is an axis not measured (at least one given); optional
+//          qw,qx,qy,qz with all three axes;
+//   distance: distance_mm (or _m) and pivot (a name), x/y/z empty;
+//   plane: plane (a name), no coordinates; fixed point: point (a name), no coordinates;
+// optional enc1..encN, sweep, marker, session, split, from_q1_deg.. on every kind. '#' lines are comments.
+// Positions and distances share one length unit.
 Dataset ReadDataset(const std::string& path);
 Dataset ParseDatasetCsv(const std::string& text, const std::string& source_name);
 std::string DatasetToCsv(const Dataset& data);

@@ -21,6 +21,14 @@ Eigen::Vector3d PredictMarker(const Robot& controller, const Robot& model, const
 // Predicted marker positions of every row, in order.
 std::vector<Eigen::Vector3d> PredictMarkers(const Robot& controller, const Robot& model, const Dataset& data);
 
+// The residual of a row in its own kind, from the predicted marker position in the frame of the row's
+// session and the robot's fixtures (robot/fixtures.h, in the frame of session 0):
+//   point: predicted - measured on the measured axes (1 to 3 values, m);
+//   distance: |predicted - pivot| - distance (1, m); plane: n . predicted - offset (1, m);
+//   fixed point: predicted - point (3, m).
+// Throws std::invalid_argument ("source:line: ...") when the robot does not give the row's fixture.
+Eigen::VectorXd RowResidual(const Robot& model, const Dataset& data, size_t row, const Eigen::Vector3d& predicted);
+
 struct ErrorStats {
   int count = 0;
   double mean = 0.0;
@@ -31,7 +39,7 @@ struct ErrorStats {
 ErrorStats Summarize(std::vector<double> errors);
 
 struct PredictionErrors {
-  std::vector<double> position;     // m, one per row
+  std::vector<double> position;     // m, one per row: the norm of its residual in its own kind (RowResidual)
   std::vector<double> orientation;  // rad, one per row with a measured orientation
   ErrorStats position_stats;
   ErrorStats orientation_stats;

@@ -13,6 +13,7 @@
 #include "framework/units.h"
 #include "models/drive_model.h"
 #include "models/joint_errors.h"
+#include "robot/fixtures.h"
 
 namespace kincal {
 
@@ -55,6 +56,8 @@ class Robot {
     std::vector<std::string> joints;
   };
   std::optional<UrdfSource> urdf;
+  // Pivots, planes and points the dataset's other instruments measure against (robot/fixtures.h).
+  Fixtures fixtures;
   Unit length_unit = {"mm", 1e-3};
   Unit angle_unit = {"deg", M_PI / 180.0};
 

@@ -190,7 +190,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   if (!root.IsMap()) ThrowInputError(source, 1, 1, "expected a robot description (a YAML map)");
   r.CheckKeys(root,
               {"name", "convention", "units", "joints", "drives", "limits", "base", "tool", "markers", "sessions",
-               "velocity_limits", "coupling", "gravity", "joint_errors", "urdf"},
+               "velocity_limits", "coupling", "gravity", "joint_errors", "urdf", "fixtures"},
               "the robot file");
   const auto [length, angle] = ReadUnits(r, root, source);
   std::unique_ptr<KinematicModel> model = ReadModel(r, root, source, length, angle);
@@ -202,6 +202,7 @@ Robot ParseRobotYaml(const std::string& text, const std::string& source) {
   ReadLimitsMarkersSessions(r, root, &robot);
   if (root["urdf"]) robot.urdf = ReadUrdfSource(r, root["urdf"], n);
   robot_file::ReadJointLevel(r, root, &robot);
+  robot_file::ReadFixtures(r, root, &robot);
   return robot;
 }
 
@@ -231,9 +232,9 @@ std::string IsometryText(const Eigen::Isometry3d& T, const Unit& length, const U
   return "{xyz: " + List(xyz) + ", rpy: " + List(r) + "}";
 }
 
-// A name or marker id as YAML that reads back to the same string: plain when it is a simple word,
-// double-quoted with escapes otherwise ("a: b", "#1", "- x", "null", "", leading spaces, control bytes).
-std::string YamlString(const std::string& text) {
+}  // namespace
+
+std::string robot_file::YamlString(const std::string& text) {
   bool plain = !text.empty() && text != "null" && text != "Null" && text != "NULL" && text != "~";
   for (size_t i = 0; i < text.size() && plain; ++i) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
@@ -257,14 +258,12 @@ std::string YamlString(const std::string& text) {
   return out + "\"";
 }
 
-}  // namespace
-
 std::string RobotToYaml(const Robot& robot) {
   const KinematicModel& model = robot.model();
   const Unit& L = robot.length_unit;
   const Unit& A = robot.angle_unit;
   std::ostringstream out;
-  out << "name: " << YamlString(robot.name) << "\n";
+  out << "name: " << robot_file::YamlString(robot.name) << "\n";
   out << "convention: " << model.convention() << "\n";
   out << "units: {length: " << L.name << ", angle: " << A.name << "}\n";
   out << "joints:\n";
@@ -309,7 +308,7 @@ std::string RobotToYaml(const Robot& robot) {
   if (!robot.markers.empty()) {
     out << "markers:\n";
     for (const auto& [id, p] : robot.markers) {
-      out << "  " << YamlString(id) << ": "
+      out << "  " << robot_file::YamlString(id) << ": "
           << List({FormatInUnit(p.x(), L), FormatInUnit(p.y(), L), FormatInUnit(p.z(), L)}) << "\n";
     }
   }
@@ -329,6 +328,7 @@ std::string RobotToYaml(const Robot& robot) {
     out << "sessions:\n";
     for (const auto& [id, T] : robot.session_bases) out << "  " << id << ": " << IsometryText(T, L, A) << "\n";
   }
+  out << robot_file::FixturesToYaml(robot);
   return out.str();
 }
 

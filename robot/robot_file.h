@@ -17,6 +17,8 @@
 //   velocity_limits, coupling, gravity, joint_errors   # optional joint-level terms (robot.h,
 //                                                      # models/joint_errors.h)
 //   urdf: {source, base, tip, joints}                 # optional, where an imported robot came from
+//   fixtures: {pivots: {P1: {xyz: [...], sd: 1}}, planes: {table: {normal: [0, 0, 1], offset: 300}},
+//              points: {socket: {xyz: [...]}}}        # optional (robot/fixtures.h); without sd: known
 //
 // Values are converted to SI on reading and back on writing; writing keeps every digit, so
 // read -> write gives the same numbers and read -> write -> read the same bits.

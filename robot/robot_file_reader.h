@@ -88,4 +88,12 @@ class Reader {
 void ReadJointLevel(const Reader& r, const YAML::Node& root, Robot* robot);
 std::string JointLevelToYaml(const Robot& robot);
 
+// The `fixtures:` section (robot_file_fixtures.cc), in the robot's units.
+void ReadFixtures(const Reader& r, const YAML::Node& root, Robot* robot);
+std::string FixturesToYaml(const Robot& robot);
+
+// A name as YAML that reads back to the same string: plain when it is a simple word, double-quoted with
+// escapes otherwise ("a: b", "#1", "- x", "null", "", leading spaces, control bytes).
+std::string YamlString(const std::string& text);
+
 }  // namespace kincal::robot_file

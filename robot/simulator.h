@@ -11,6 +11,7 @@
 #include "framework/dataset.h"
 #include "framework/options.h"
 #include "robot/robot.h"
+#include "robot/simulator_instruments.h"
 
 namespace kincal {
 
@@ -31,6 +32,9 @@ struct SimulatorOptions {
   double noise_range_coefficient = 0.0;
   bool orientation = false;        // also record the tool orientation (qw, qx, qy, qz)
   double orientation_noise = 0.0;  // rad, per axis of a small rotation
+  // What the rows read (robot/simulator_instruments.h). For plane and socket the configurations are the
+  // contacts found (`poses` of them, random protocol only).
+  InstrumentOptions instrument;
   // Markers to record at every pose (ids of the truth robot's `markers`); empty = the tool origin, or
   // every marker when the truth robot lists some.
   std::vector<std::string> markers;
@@ -40,8 +44,8 @@ struct SimulatorOptions {
   Unit angle_unit = {"deg", M_PI / 180.0};
 
   // The keys a file gives (a study's `simulate:` map): protocol, poses, stops, step (deg), start (deg),
-  // order, noise and noise_range (lengths, mm when plain), orientation, orientation_noise (deg). markers,
-  // seed and the units are set by the caller. Validation (IsValid) checks the same requirements.
+  // order, noise and noise_range (lengths, mm when plain), orientation, orientation_noise (deg), and the
+  // instrument's keys (InstrumentOptions::Table). markers, seed and the units are set by the caller. Validation (IsValid) checks the same requirements.
   static const OptionTable<SimulatorOptions>& Table();
   bool IsValid(std::string* why) const;
 };

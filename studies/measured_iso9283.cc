@@ -10,6 +10,7 @@ namespace kincal {
 
 std::vector<std::vector<int>> GroupVisits(const Robot& controller, const Dataset& data,
                                           const VisitTolerance& tolerance) {
+  data.RequireFullPoints("ISO 9283 from measured data");
   const std::vector<Dataset::Previous> previous = data.PreviousPoses();
   std::vector<Eigen::Isometry3d> T_base_tool(data.rows.size());
   for (size_t i = 0; i < data.rows.size(); ++i) {
