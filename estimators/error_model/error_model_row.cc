@@ -79,6 +79,13 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
     ws->session_base[k] = PoseFromXyzRpy(pose.head<3>(), pose.tail<3>());
     ws->session_from_base0[k] = ws->session_base[k] * base0_inverse;
   }
+  ws->fixtures.resize(fixture_slots_.size());
+  for (size_t k = 0; k < fixture_slots_.size(); ++k) {
+    ws->fixtures[k] = fixture_slots_[k].start;
+    for (int a = 0; a < 3; ++a) {
+      if (fixture_column_[k][a] >= 0) ws->fixtures[k].x[a] = x[fixture_column_[k][a]];
+    }
+  }
   ws->valid = true;
 }
 
@@ -148,11 +155,19 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
                                    Matrix6Xd* jacobian) const {
   PredictedPose pose;
   PredictRowPose(row, x, ws, &pose, jacobian);
-  const int k = rows_->factor[row]->Evaluate(data_->rows[row], factor_context(), pose, nullptr, residual, jacobian,
-                                             nullptr);
+  const int fixture = rows_->fixture[row];
+  const FixtureValue* value = fixture >= 0 ? &ws->fixtures[fixture] : nullptr;
+  const int k = rows_->factor[row]->Evaluate(data_->rows[row], factor_context(), pose, value, residual, jacobian,
+                                             fixture >= 0 && jacobian ? &ws->J_fixture : nullptr);
   // The rows past k are zero, so that callers may read all six.
   residual->tail(6 - k).setZero();
   if (jacobian && jacobian->cols() > 0) jacobian->bottomRows(6 - k).setZero();
+  if (jacobian && fixture >= 0) {
+    for (int a = 0; a < 3; ++a) {
+      const int c = fixture_column_[fixture][a];
+      if (c >= 0) jacobian->col(c).head(k) = ws->J_fixture.col(a).head(k);
+    }
+  }
   return k;
 }
 

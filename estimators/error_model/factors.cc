@@ -7,11 +7,14 @@
 namespace kincal {
 
 std::unique_ptr<const MeasurementFactor> NewPointFactor();
+std::unique_ptr<const MeasurementFactor> NewDistanceFactor();
+std::unique_ptr<const MeasurementFactor> NewPlaneFactor();
+std::unique_ptr<const MeasurementFactor> NewFixedPointFactor();
 
 const std::map<std::string, std::unique_ptr<const MeasurementFactor>>& MeasurementFactors() {
   static const auto* const factors = [] {
     auto* all = new std::map<std::string, std::unique_ptr<const MeasurementFactor>>;
-    for (auto make : {NewPointFactor}) {
+    for (auto make : {NewPointFactor, NewDistanceFactor, NewPlaneFactor, NewFixedPointFactor}) {
       std::unique_ptr<const MeasurementFactor> f = make();
       const std::string kind = f->kind();
       (*all)[kind] = std::move(f);

@@ -12,7 +12,8 @@ namespace kincal {
 namespace {
 
 // Per row of `problem` at x: sqrt(trace(J_S C J_S^T)) over the columns `columns` (problem column ->
-// covariance index, -1 when absent).
+// covariance index, -1 when absent), J the predicted marker position's Jacobian (the pose predictor's),
+// so that every kind of row gets the sd of its predicted point.
 std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const Eigen::MatrixXd& C,
                           const std::vector<int>& columns, int rows) {
   std::vector<int> used, index;
@@ -24,12 +25,12 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
   for (int a = 0; a < q; ++a)
     for (int b = 0; b < q; ++b) Cs(a, b) = C(index[a], index[b]);
   auto ws = problem.NewWorkspace();
-  Vector6d r;
+  PredictedPose pose;
   Matrix6Xd J;
   Eigen::MatrixXd Js(3, q);
   std::vector<double> out(rows);
   for (int i = 0; i < rows; ++i) {
-    problem.EvaluateRow(i, x, ws.get(), &r, &J);
+    problem.PredictRowPose(i, x, ws.get(), &pose, &J);
     // A row the model cannot evaluate (non-finite values) leaves J without its columns.
     if (J.cols() != static_cast<Eigen::Index>(columns.size()) || !J.allFinite()) {
       out[i] = NAN;

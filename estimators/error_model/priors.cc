@@ -117,6 +117,14 @@ void ErrorModelProblem::AssignPriors() {
     // that hardly varies over the poses must not give its coefficient a prior wide enough to predict
     // metres wherever it does vary.
     const double per_unit = p->group == Group::kJointError ? 1.0 / std::max(regressor_rms_[p->coefficient], 1.0) : 1.0;
+    // A fixture's prior is the robot file's sd, whatever the options: it says how well the fixture is known.
+    if (p->group == Group::kFixture) {
+      p->prior_mean = p->start;
+      p->prior_sd = FixturePriorSd(*p);
+      const std::string reference_kind = p->kind == Kind::kLength ? "length" : "angle";
+      p->reference_sd = p->prior_sd > 0.0 ? p->prior_sd : PriorOptions::DefaultSd(reference_kind);
+      return;
+    }
     const std::string reference_kind = !p->prior_kind.empty()     ? p->prior_kind
                                        : p->kind == Kind::kLength ? "length"
                                                                   : "angle";

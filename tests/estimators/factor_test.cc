@@ -1,6 +1,8 @@
 // Measurement factors (estimators/error_model/factor.h): every registered kind's analytic Jacobian, with
 // respect to the pose and to its fixture block, against central differences; the pose predictor's
 // Jacobian against central differences of the predicted position and orientation.
+#include <array>
+
 #include <gtest/gtest.h>
 
 #include "estimators/error_model/error_model.h"
@@ -27,7 +29,22 @@ std::vector<FactorSample> Samples(const std::string& kind, const Eigen::Vector3d
     FactorSample s;
     s.m.p = p0 + Eigen::Vector3d(rng->Uniform(-1e-3, 1e-3), rng->Uniform(-1e-3, 1e-3), rng->Uniform(-1e-3, 1e-3));
     out.push_back(s);
+    for (const std::array<bool, 3> axes : {std::array<bool, 3>{{true, false, true}}, {{false, false, true}}}) {
+      FactorSample partial = s;
+      partial.m.axes = axes;
+      out.push_back(partial);
+    }
     s.m.orientation = Eigen::Quaterniond(RotationExp(Eigen::Vector3d(0.01, -0.02, 0.015)) * R0);
+    out.push_back(s);
+  } else if (kind == "distance" || kind == "fixed_point") {
+    FactorSample s;
+    s.fixture.x = p0 + Eigen::Vector3d(0.4, -0.3, 0.2);
+    s.m.distance = (p0 - s.fixture.x).norm() + rng->Uniform(-1e-3, 1e-3);
+    out.push_back(s);
+  } else if (kind == "plane") {
+    FactorSample s;
+    s.fixture.reference = Eigen::Vector3d(0.2, -0.1, 1.0).normalized();
+    s.fixture.x = Eigen::Vector3d(0.05, -0.03, s.fixture.reference.dot(p0) + 1e-3);
     out.push_back(s);
   }
   return out;
