@@ -159,9 +159,15 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
   const FixtureValue* value = fixture >= 0 ? &ws->fixtures[fixture] : nullptr;
   const int k = rows_->factor[row]->Evaluate(data_->rows[row], factor_context(), pose, value, residual, jacobian,
                                              fixture >= 0 && jacobian ? &ws->J_fixture : nullptr);
-  // The rows past k are zero, so that callers may read all six.
-  residual->tail(6 - k).setZero();
-  if (jacobian && jacobian->cols() > 0) jacobian->bottomRows(6 - k).setZero();
+  // The rows past k are zero, so that callers may read all six (fixed sizes for a point's 3: the common
+  // case runs per row, where a dynamic row count costs a loop per column).
+  if (k == 3) {
+    residual->tail<3>().setZero();
+    if (jacobian && jacobian->cols() > 0) jacobian->bottomRows<3>().setZero();
+  } else if (k < 6) {
+    residual->tail(6 - k).setZero();
+    if (jacobian && jacobian->cols() > 0) jacobian->bottomRows(6 - k).setZero();
+  }
   if (jacobian && fixture >= 0) {
     for (int a = 0; a < 3; ++a) {
       const int c = fixture_column_[fixture][a];
