@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "framework/memory.h"
+#include "robot/fixture_fits.h"
 #include "robot/prediction.h"
 
 namespace kincal {
@@ -93,8 +94,12 @@ EstimationReport Estimator::Estimate(const Robot& start, const Robot& controller
         "(degenerate poses or values out of range); the start robot is returned unchanged";
   }
   report.wall_time_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (std::isnan(report.initial_rms))
-    report.initial_rms = EvaluatePredictions(controller, start, data).position_stats.rms;
+  if (std::isnan(report.initial_rms)) {
+    // Fixtures the start does not give start where the fit starts them (robot/fixture_fits.h).
+    Robot measured = start;
+    if (!data.AllFullPoints()) measured.fixtures = StartFixtures(controller, start, data);
+    report.initial_rms = EvaluatePredictions(controller, measured, data).position_stats.rms;
+  }
   if (std::isnan(report.final_rms))
     report.final_rms = EvaluatePredictions(controller, *identified, data).position_stats.rms;
   if (!std::isfinite(report.final_rms) && report.status != EstimationStatus::kFailed) {

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "estimators/error_model/prior_factor.h"
+
 namespace kincal {
 
 WorkspacePool::Lease WorkspacePool::Acquire() {
@@ -57,8 +59,7 @@ bool ErrorModelRowCost::Evaluate(double const* const* parameters, double* residu
 
 namespace {
 
-// The priors of one parameter block: residual k = noise (x_j - mu_j) / sd_j for each parameter j of the
-// block with a prior (normal_equations.h, AddPriorTerms), so that Ceres' 1/2 sum r^2 matches the cost.
+// The prior factors of one parameter block (prior_factor.h), so that Ceres' 1/2 sum r^2 matches the cost.
 class PriorCost final : public ceres::CostFunction {
  public:
   PriorCost(int block_size, std::vector<int> index, std::vector<double> mean, std::vector<double> scale)
@@ -81,6 +82,17 @@ class PriorCost final : public ceres::CostFunction {
   std::vector<double> mean_, scale_;
 };
 
+// The row weighting's robust loss (normal_equations.h) as Ceres reads it: rho on the squared norm, the
+// same convention, so that the own LM and Ceres minimise the same cost.
+class RobustLossFunction final : public ceres::LossFunction {
+ public:
+  explicit RobustLossFunction(const RobustLoss& loss) : loss_(loss) {}
+  void Evaluate(double s, double rho[3]) const override { loss_.Evaluate(s, &rho[0], &rho[1], &rho[2]); }
+
+ private:
+  RobustLoss loss_;
+};
+
 }  // namespace
 
 CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeighting& weighting,
@@ -92,16 +104,7 @@ CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeig
     throw std::invalid_argument("ceres: " + std::to_string(weighting.weights.size()) + " weights for " +
                                 std::to_string(rows) + " rows");
   }
-  switch (weighting.loss.type) {
-    case RobustLoss::Type::kNone:
-      break;
-    case RobustLoss::Type::kHuber:
-      loss_ = std::make_unique<ceres::HuberLoss>(weighting.loss.scale);
-      break;
-    case RobustLoss::Type::kCauchy:
-      loss_ = std::make_unique<ceres::CauchyLoss>(weighting.loss.scale);
-      break;
-  }
+  if (weighting.loss.type != RobustLoss::Type::kNone) loss_ = std::make_unique<RobustLossFunction>(weighting.loss);
   ceres::Problem::Options options;
   options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres_problem_ = std::make_unique<ceres::Problem>(options);
@@ -126,20 +129,21 @@ CeresErrorModel::CeresErrorModel(const ErrorModelProblem& problem, const RowWeig
     }
     ceres_problem_->AddResidualBlock(new ErrorModelRowCost(problem, i, std::move(row_blocks), &pool_), loss, pointers);
   }
-  const double noise = problem.prior_noise();
-  for (size_t b = 0; noise > 0.0 && b < blocks.size(); ++b) {
-    std::vector<int> index;
-    std::vector<double> mean, scale;
-    for (int j = 0; j < blocks[b].size; ++j) {
-      const ErrorModelParameter& q = problem.parameters()[blocks[b].offset + j];
-      if (!(q.prior_sd > 0.0)) continue;
-      index.push_back(j);
-      mean.push_back(q.prior_mean);
-      scale.push_back(noise / q.prior_sd);
-    }
-    if (index.empty()) continue;
-    ceres_problem_->AddResidualBlock(new PriorCost(blocks[b].size, std::move(index), std::move(mean), std::move(scale)),
-                                     nullptr, block(static_cast<int>(b)));
+  // The prior factors (prior_factor.h), grouped by parameter block.
+  std::vector<std::vector<int>> index(blocks.size());
+  std::vector<std::vector<double>> mean(blocks.size()), scale(blocks.size());
+  for (const PriorFactor& f : PriorFactors(problem)) {
+    size_t b = 0;
+    while (b + 1 < blocks.size() && f.index >= blocks[b + 1].offset) ++b;
+    index[b].push_back(f.index - blocks[b].offset);
+    mean[b].push_back(f.mean);
+    scale[b].push_back(f.scale);
+  }
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    if (index[b].empty()) continue;
+    ceres_problem_->AddResidualBlock(
+        new PriorCost(blocks[b].size, std::move(index[b]), std::move(mean[b]), std::move(scale[b])), nullptr,
+        block(static_cast<int>(b)));
   }
 }
 

@@ -6,8 +6,9 @@
 // Rows of different sessions touch different base blocks, which makes the Jacobian block sparse.
 //
 // Weighting as in normal_equations.h: row i costs w_i rho(|r_i|^2), rho on the row's squared norm
-// (Ceres' own convention, so HuberLoss/CauchyLoss(c) are exactly RobustLoss{kHuber/kCauchy, c}); the
-// weight enters through ScaledLoss. Ceres minimises half of sum w rho: the same minimiser.
+// (Ceres' own convention; the loss function calls RobustLoss::Evaluate itself, so the robust loss is
+// defined once); the weight enters through ScaledLoss. Ceres minimises half of sum w rho: the same
+// minimiser. Priors: one residual block per parameter block from PriorFactors (prior_factor.h).
 #include <memory>
 #include <mutex>
 #include <vector>

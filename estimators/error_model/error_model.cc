@@ -302,7 +302,7 @@ void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, 
 namespace {
 
 // A parameter's value in `robot`, x's report units (the ratio itself, not its scale).
-double ValueOf(const ErrorModelParameter& q, const Robot& robot) {
+double ValueOf(const ErrorModelParameter& q, const Robot& robot, const ErrorModelProblem& problem) {
   switch (q.group) {
     case ErrorModelParameter::Group::kJoint:
     case ErrorModelParameter::Group::kTool:
@@ -318,6 +318,8 @@ double ValueOf(const ErrorModelParameter& q, const Robot& robot) {
       const Eigen::Isometry3d T = robot.SessionBase(q.session);
       return q.axis < 3 ? T.translation()[q.axis] : RpyFromRotation(T.linear())[q.axis - 3];
     }
+    case ErrorModelParameter::Group::kFixture:
+      return problem.FixtureParameterValue(q, robot);
   }
   return NAN;
 }
@@ -335,8 +337,8 @@ std::vector<ParameterEstimate> ParameterEstimates(const PreparedErrorModel& prep
     ParameterEstimate e;
     e.name = q->name;
     e.unit = ErrorModelProblem::Unit(*q);
-    e.nominal = ValueOf(*q, prep.input);
-    e.value = ValueOf(*q, identified);
+    e.nominal = ValueOf(*q, prep.input, p);
+    e.value = ValueOf(*q, identified, p);
     const auto it = free_index.find(q->name);
     e.free = it != free_index.end();
     if (q->prior_sd > 0.0) e.prior_sd = q->prior_sd * p.ReportScale(*q);

@@ -38,8 +38,10 @@ int GroupOrder(Group g) {
       return 4;
     case Group::kSession:
       return 5;
+    case Group::kFixture:
+      return 6;
   }
-  return 6;
+  return 7;
 }
 
 }  // namespace
@@ -61,7 +63,8 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows(Rows* per_row) {
   per_row->q_ref.resize(static_cast<size_t>(rows) * n);
   per_row->marker.resize(rows);
   per_row->session.resize(rows);
-  per_row->orientation.resize(rows);
+  per_row->factor.resize(rows);
+  per_row->dimension.resize(rows);
   RowSummary summary;
   for (int i = 0; i < rows; ++i) {
     const Measurement& m = data.rows[i];
@@ -77,14 +80,15 @@ ErrorModelProblem::RowSummary ErrorModelProblem::TabulateRows(Rows* per_row) {
                               ? -1
                               : static_cast<int>(std::lower_bound(session_ids_.begin(), session_ids_.end(), m.session) -
                                                  session_ids_.begin());
-    per_row->orientation[i] = m.orientation.has_value();
+    per_row->factor[i] = &FactorOfKind(MeasurementKindName(m.kind));
+    per_row->dimension[i] = static_cast<unsigned char>(per_row->factor[i]->Dimension(m));
     if (m.orientation && !m.orientation->coeffs().allFinite()) {
       throw std::invalid_argument(data.source + ": row " + std::to_string(i + 1) + ": non-finite orientation");
     }
     summary.any_session0 |= m.session == 0;
     summary.all_marked &= !m.marker.empty();
     summary.any_orientation |= m.orientation.has_value();
-    num_residuals_ += m.orientation ? 6 : 3;
+    num_residuals_ += per_row->dimension[i];
   }
   return summary;
 }
@@ -180,6 +184,7 @@ void ErrorModelProblem::ListCandidates() {
       candidates_.push_back(p);
     }
   }
+  ListFixtureCandidates();
   for (int k : session_ids_) {
     const Vector6d pose = XyzRpyFromPose(start_.SessionBase(k));
     for (int a = 0; a < 6; ++a) {
@@ -202,7 +207,7 @@ void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* r
       const bool group_match =
           (name == "base" && p.group == Group::kBase) || (name == "tool" && p.group == Group::kTool) ||
           (name == "ratios" && p.group == Group::kRatio) || (name == "markers" && p.group == Group::kMarker) ||
-          (name == "sessions" && p.group == Group::kSession) ||
+          (name == "sessions" && p.group == Group::kSession) || (name == "fixtures" && p.group == Group::kFixture) ||
           (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1)) ||
           (p.group == Group::kJointError && (name == "joint_errors" || p.name.rfind(name + "_", 0) == 0));
       if (group_match || p.name == name) {
@@ -215,7 +220,8 @@ void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* r
       for (const auto& p : candidates_) list += (list.empty() ? "" : ", ") + p.name;
       throw std::invalid_argument("error model: cannot fix '" + name +
                                   "': not a parameter of this robot and dataset (groups: base, tool, ratios, markers, "
-                                  "sessions, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; names: " +
+                                  "sessions, fixtures, joint_<i>, joint_errors, gravity, harmonic, backlash, approach; "
+                                  "names: " +
                                   list + ")");
     }
   }
@@ -234,6 +240,8 @@ void ErrorModelProblem::HoldByConstruction(const RowSummary& summary, std::map<s
     }
     if (p.group == Group::kMarker && !options_.identify_markers) hold(p, "identify_markers is off");
     if (p.group == Group::kSession && !options_.identify_session_bases) hold(p, "identify_session_bases is off");
+    if (p.group == Group::kFixture && fixture_slots_[p.fixture].known)
+      hold(p, "known: given in the robot file without an sd");
     if (p.group == Group::kBase && !summary.any_session0)
       hold(p, "no row in session 0: the model's base has no effect");
     if (model_parameter) {
@@ -277,6 +285,8 @@ void ErrorModelProblem::Build() {
   session_column_.assign(session_ids_.size(), {-1, -1, -1, -1, -1, -1});
   marker_block_.assign(marker_ids_.size(), -1);
   session_block_.assign(session_ids_.size(), -1);
+  fixture_column_.assign(fixture_slots_.size(), {-1, -1, -1});
+  fixture_block_.assign(fixture_slots_.size(), -1);
   blocks_.clear();
   geometry_block_ = ratio_block_ = joint_error_block_ = base_block_ = -1;
   for (int i = 0; i < num_parameters(); ++i) {
@@ -319,6 +329,13 @@ void ErrorModelProblem::Build() {
         session_column_[slot][p.axis] = i;
         block = "session:" + std::to_string(p.session);
         block_index = &session_block_[slot];
+        break;
+      }
+      case Group::kFixture: {
+        const FixtureSlot& slot = fixture_slots_[p.fixture];
+        fixture_column_[p.fixture][p.axis] = i;
+        block = FixtureTypeName(slot.type) + ":" + slot.name;
+        block_index = &fixture_block_[p.fixture];
         break;
       }
     }

@@ -86,6 +86,7 @@ ErrorModelProblem::ErrorModelProblem(const Robot& start, const Robot& controller
   // The per-row tables are filled here and then shared, read-only, by every copy (Hold).
   const auto per_row = std::make_shared<Rows>();
   const RowSummary summary = TabulateRows(per_row.get());
+  ListFixtures(per_row.get());
   rows_ = per_row;
   FindJointParameters();
   ListCandidates();
@@ -148,6 +149,8 @@ std::vector<int> ErrorModelProblem::RowBlocks(int row) const {
   const int session = rows_->session[row];
   if (session < 0 && base_block_ >= 0) out.push_back(base_block_);
   if (session >= 0 && session_block_[session] >= 0) out.push_back(session_block_[session]);
+  const int fixture = rows_->fixture[row];
+  if (fixture >= 0 && fixture_block_[fixture] >= 0) out.push_back(fixture_block_[fixture]);
   return out;
 }
 
@@ -188,6 +191,7 @@ void ErrorModelProblem::Bounds(Eigen::VectorXd* lower, Eigen::VectorXd* upper) c
         break;
       case Group::kBase:
       case Group::kSession:
+      case Group::kFixture:
         half = length ? b.base_length : b.base_angle;
         break;
       case Group::kJointError:
@@ -210,6 +214,7 @@ void ErrorModelProblem::WriteToRobot(const Eigen::VectorXd& x, Robot* robot) con
   }
   for (size_t k = 0; k < marker_ids_.size(); ++k) robot->markers[marker_ids_[k]] = ws->markers[k];
   for (size_t k = 0; k < session_ids_.size(); ++k) robot->session_bases[session_ids_[k]] = ws->session_base[k];
+  WriteFixtures(*ws, robot);
 }
 
 double ErrorModelProblem::ReportScale(const ErrorModelParameter& p) const {

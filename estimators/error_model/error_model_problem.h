@@ -16,7 +16,11 @@
 //   "base"          free base_* parameters: T_meas_base of session 0 (xyz, then roll-pitch-yaw)
 //   "session:<k>"   "session_<k>_x/y/z/roll/pitch/yaw": T_meas_base of session k (dataset `session`), same
 //                   parametrisation as the base. Rows of session k do not depend on the model's base.
-// Residuals of a row (RowResiduals(row) of them, 3 or 6), in metres:
+//   "pivot:<name>"  "pivot_<name>_x/y/z", "point_<name>_x/y/z": a distance rows' pivot, a fixed point
+//   "point:<name>"  (m, measurement frame of session 0); "plane_<name>_a/_b/_offset": a plane's normal
+//   "plane:<name>"  tangent coordinates about its start normal (rad) and offset (m) (factor.h)
+// Residuals of a row (RowResiduals(row) of them, 1 to 6), in metres: the factor of the row's kind
+// (factor.h, kinds/), e.g. for a point
 //   r[0..2] = p_predicted - p_measured                          (measurement frame of the row's session)
 //   r[3..5] = L log(R_predicted R_measured^T)                   (rows with an orientation; L =
 //             ErrorModelOptions::orientation_length, m per rad, weighs orientation against position)
@@ -47,6 +51,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "estimators/error_model/factor.h"
 #include "framework/dataset.h"
 #include "framework/math.h"
 #include "framework/registry.h"
@@ -129,7 +134,7 @@ struct ErrorModelOptions {
 };
 
 struct ErrorModelParameter {
-  enum class Group { kJoint, kTool, kRatio, kJointError, kMarker, kBase, kSession };
+  enum class Group { kJoint, kTool, kRatio, kJointError, kMarker, kBase, kSession, kFixture };
   enum class Kind { kLength, kAngle, kRatioScale, kCoefficient };
   std::string name;
   Group group = Group::kJoint;
@@ -140,7 +145,8 @@ struct ErrorModelParameter {
   std::string unit;         // kJointError: "rad/m", "rad" or "s"
   std::string marker;       // kMarker: id
   int session = 0;          // kSession: session id
-  int axis = 0;             // kMarker: 0..2 (x, y, z); kSession: 0..5 (x, y, z, roll, pitch, yaw)
+  int axis = 0;             // kMarker, kFixture: 0..2 (x, y, z; a plane's a, b, offset); kSession: 0..5
+  int fixture = -1;         // kFixture: index into ErrorModelProblem::fixture_slots()
   double start = 0.0;       // start value in x's units (SI; 1 for a ratio scale)
   std::string prior_kind;   // "length", "angle", "joint_offset", "ratio", a joint error type; "" for base,
                             // tool, markers and sessions
@@ -163,6 +169,16 @@ struct HeldParameter {
   bool unidentifiable = false;  // held because the data cannot determine it (identifiability pass)
 };
 
+// A fixture the rows name (a pivot, a plane, a fixed point) and its start: the robot file's, or a closed
+// form on the start arm (sphere fit, plane fit, centroid) when the file does not give it.
+struct FixtureSlot {
+  Fixture::Type type = Fixture::Type::kPivot;
+  std::string name;
+  FixtureValue start;               // factor.h: position, or a plane's (0, 0, offset) and start normal
+  double sd = 0.0, sd_angle = 0.0;  // the robot file's prior sds: position or offset (m), normal (rad)
+  bool known = false;               // given without an sd: held at its value
+};
+
 class ErrorModelProblem {
  public:
   // Scratch for EvaluateRow: a model clone set to x's values, cached until x changes. One per thread;
@@ -180,6 +196,8 @@ class ErrorModelProblem {
     JointErrors active_joint_errors;                    // the terms a row evaluates, with x's coefficients
     Eigen::VectorXd qbar, qbar_previous, q;             // drive angles (and the previous pose's), actual angles
     JointErrorMap joint_error_map;
+    std::vector<FixtureValue> fixtures;                 // per fixture slot
+    Matrix6x3d J_fixture;
     Matrix6Xd J_model;
     Matrix6Xd J_joints;
   };
@@ -197,7 +215,7 @@ class ErrorModelProblem {
   int num_parameters() const { return static_cast<int>(free_.size()); }
   int num_rows() const { return static_cast<int>(data_->rows.size()); }
   int num_residuals() const { return num_residuals_; }
-  int RowResiduals(int row) const { return rows_->orientation[row] ? 6 : 3; }
+  int RowResiduals(int row) const { return rows_->dimension[row]; }
 
   const std::vector<ErrorModelParameter>& parameters() const { return free_; }
   // Every parameter the problem could free (free or held), in canonical order: the model's parameters,
@@ -206,6 +224,10 @@ class ErrorModelProblem {
   std::vector<std::string> ParameterNames() const;
   const std::vector<HeldParameter>& held() const { return held_; }
   const std::vector<ParameterBlock>& blocks() const { return blocks_; }
+  const std::vector<FixtureSlot>& fixture_slots() const { return fixture_slots_; }
+  // A fixture parameter's value in robot.fixtures (a plane's a, b about this problem's start normal); the
+  // start value when the robot does not have the fixture.
+  double FixtureParameterValue(const ErrorModelParameter& p, const Robot& robot) const;
   // Blocks (indices into blocks()) whose parameters row `row` depends on.
   std::vector<int> RowBlocks(int row) const;
 
@@ -229,6 +251,16 @@ class ErrorModelProblem {
   // KinematicModel::ParameterJacobian at the marker, chain rule for ratios, markers and sessions.
   int EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* workspace, Vector6d* residual,
                   Matrix6Xd* jacobian) const;
+  // The pose predictor EvaluateRow's factor reads: the row's marker position and tool orientation in
+  // the measurement frame of its session, and when pose_jacobian is not null their derivatives with
+  // respect to x (6 x num_parameters(): rows 0-2 dp/dx, rows 3-5 the tool's angular velocity per unit of
+  // x). Analytic: KinematicModel::ParameterJacobian at the marker, chain rule for ratios, joint errors,
+  // markers and sessions.
+  void PredictRowPose(int row, const Eigen::VectorXd& x, Workspace* workspace, PredictedPose* pose,
+                      Matrix6Xd* pose_jacobian) const;
+  // The factor of row `row`'s kind and what it needs beside the pose.
+  const MeasurementFactor& RowFactor(int row) const { return *rows_->factor[row]; }
+  FactorContext factor_context() const { return {options_.orientation_length}; }
 
   // Writes x into *robot (a copy of start()): model parameters, drives.ratio, markers, session_bases.
   void WriteToRobot(const Eigen::VectorXd& x, Robot* robot) const;
@@ -258,6 +290,13 @@ class ErrorModelProblem {
   void TabulatePreviousPoses(Rows* per_row) const;
   void FindJointParameters();
   void ListCandidates();
+  // Fixture slots of the rows (error_model_fixtures.cc): per row in per_row->fixture, their starts,
+  // candidates, prior sds and write-back.
+  void ListFixtures(Rows* per_row);
+  void StartFixture(const Fixture& given, FixtureSlot* slot) const;
+  void ListFixtureCandidates();
+  double FixturePriorSd(const ErrorModelParameter& p) const;
+  void WriteFixtures(const Workspace& ws, Robot* robot) const;
   void HoldFixedByOptions(std::map<std::string, std::string>* reasons) const;
   void HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons);
   // Orders the candidates not held into x, blocks and column maps.
@@ -288,7 +327,9 @@ class ErrorModelProblem {
     std::vector<char> has_previous;
     std::vector<int> marker;   // index into marker_ids_, -1 for the tool origin
     std::vector<int> session;  // index into session_ids_, -1 for session 0
-    std::vector<char> orientation;
+    std::vector<int> fixture;  // index into fixture_slots_, -1 for none
+    std::vector<const MeasurementFactor*> factor;  // the row's kind (factor.h)
+    std::vector<unsigned char> dimension;          // its number of residuals
   };
   std::shared_ptr<const Rows> rows_;
   std::vector<std::string> marker_ids_;
@@ -307,6 +348,9 @@ class ErrorModelProblem {
   std::vector<std::array<int, 3>> marker_column_;   // per marker slot and axis: x index or -1
   std::vector<std::array<int, 6>> session_column_;  // per session slot and axis: x index or -1
   std::vector<int> marker_block_;                   // per marker slot: block index or -1
+  std::vector<FixtureSlot> fixture_slots_;
+  std::vector<std::array<int, 3>> fixture_column_;  // per fixture slot and axis: x index or -1
+  std::vector<int> fixture_block_;                  // per fixture slot: block index or -1
   std::vector<int> session_block_;                  // per session slot: block index or -1
   int geometry_block_ = -1, ratio_block_ = -1, joint_error_block_ = -1, base_block_ = -1;
   // Joint error terms a row evaluates (SelectActiveJointErrors, after Build): those with a free

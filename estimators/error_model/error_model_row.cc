@@ -1,5 +1,6 @@
-// ErrorModelProblem's evaluation of one row (error_model_problem.h): the workspace set to x, the row's
-// actual joint angles, its residual and its Jacobian by the chain rule.
+// ErrorModelProblem's pose predictor (error_model_problem.h): the workspace set to x, the row's actual
+// joint angles, its predicted pose and the pose Jacobian by the chain rule; EvaluateRow hands them to the
+// row's factor (factor.h).
 #include <stdexcept>
 #include <string>
 
@@ -78,16 +79,22 @@ void ErrorModelProblem::UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws)
     ws->session_base[k] = PoseFromXyzRpy(pose.head<3>(), pose.tail<3>());
     ws->session_from_base0[k] = ws->session_base[k] * base0_inverse;
   }
+  ws->fixtures.resize(fixture_slots_.size());
+  for (size_t k = 0; k < fixture_slots_.size(); ++k) {
+    ws->fixtures[k] = fixture_slots_[k].start;
+    for (int a = 0; a < 3; ++a) {
+      if (fixture_column_[k][a] >= 0) ws->fixtures[k].x[a] = x[fixture_column_[k][a]];
+    }
+  }
   ws->valid = true;
 }
 
 // What RowJacobian needs of the row's pose, from EvaluateRow.
 struct ErrorModelProblem::RowPose {
   int marker = -1, session = -1;
-  bool has_previous = false, oriented = false;
+  bool has_previous = false;
   Eigen::Vector3d point, p;  // the marker in the tool frame; its predicted position (measurement frame)
   Eigen::Isometry3d T_meas_tool;
-  Eigen::Matrix3d orientation_map;  // d(orientation residual) / d(rotation), where oriented
 };
 
 bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) const {
@@ -113,10 +120,9 @@ bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) co
   return has_previous;
 }
 
-int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
-                                   Matrix6Xd* jacobian) const {
+void ErrorModelProblem::PredictRowPose(int row, const Eigen::VectorXd& x, Workspace* ws, PredictedPose* predicted,
+                                       Matrix6Xd* jacobian) const {
   UpdateWorkspace(x, ws);
-  const Measurement& m = data_->rows[row];
   RowPose pose;
   pose.has_previous = RowJointAngles(row, jacobian != nullptr, ws);
   pose.marker = rows_->marker[row];
@@ -140,17 +146,35 @@ int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace*
     }
   }
   pose.p = T_meas_tool * pose.point;
-  residual->head<3>() = pose.p - m.p;
-  pose.oriented = rows_->orientation[row];
-  if (pose.oriented) {
-    const Eigen::Vector3d phi = RotationLog(T_meas_tool.linear() * m.orientation->toRotationMatrix().transpose());
-    residual->tail<3>() = options_.orientation_length * phi;
-    pose.orientation_map = options_.orientation_length * LeftJacobianInverseSO3(phi);
-  } else {
-    residual->tail<3>().setZero();
-  }
+  predicted->p = pose.p;
+  predicted->R = T_meas_tool.linear();
   if (jacobian) RowJacobian(pose, ws, jacobian);
-  return pose.oriented ? 6 : 3;
+}
+
+int ErrorModelProblem::EvaluateRow(int row, const Eigen::VectorXd& x, Workspace* ws, Vector6d* residual,
+                                   Matrix6Xd* jacobian) const {
+  PredictedPose pose;
+  PredictRowPose(row, x, ws, &pose, jacobian);
+  const int fixture = rows_->fixture[row];
+  const FixtureValue* value = fixture >= 0 ? &ws->fixtures[fixture] : nullptr;
+  const int k = rows_->factor[row]->Evaluate(data_->rows[row], factor_context(), pose, value, residual, jacobian,
+                                             fixture >= 0 && jacobian ? &ws->J_fixture : nullptr);
+  // The rows past k are zero, so that callers may read all six (fixed sizes for a point's 3: the common
+  // case runs per row, where a dynamic row count costs a loop per column).
+  if (k == 3) {
+    residual->tail<3>().setZero();
+    if (jacobian && jacobian->cols() > 0) jacobian->bottomRows<3>().setZero();
+  } else if (k < 6) {
+    residual->tail(6 - k).setZero();
+    if (jacobian && jacobian->cols() > 0) jacobian->bottomRows(6 - k).setZero();
+  }
+  if (jacobian && fixture >= 0) {
+    for (int a = 0; a < 3; ++a) {
+      const int c = fixture_column_[fixture][a];
+      if (c >= 0) jacobian->col(c).head(k) = ws->J_fixture.col(a).head(k);
+    }
+  }
+  return k;
 }
 
 void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6Xd* jacobian) const {
@@ -221,12 +245,6 @@ void ErrorModelProblem::RowJacobian(const RowPose& pose, Workspace* ws, Matrix6X
       const int c = session_column_[session][a];
       if (c >= 0) J.col(c) = Jb.col(a);
     }
-  }
-  if (J.cols() == 0) return;  // every parameter held: no columns to map
-  if (pose.oriented) {
-    J.bottomRows<3>() = pose.orientation_map * J.bottomRows<3>();
-  } else {
-    J.bottomRows<3>().setZero();
   }
 }
 

@@ -14,6 +14,10 @@ using Group = ErrorModelParameter::Group;
 
 int Priority(Group g) {
   switch (g) {
+    // Fixtures before the base: distances from unknown pivots or contacts with an unknown plane see the
+    // arm relative to them, so the base is what the data cannot see (a pivot's frame is not the arm's).
+    case Group::kFixture:
+      return -1;
     case Group::kBase:
       return 0;
     case Group::kSession:

@@ -5,13 +5,14 @@
 
 namespace kincal {
 
-void RobustLoss::Evaluate(double s, double* rho, double* rho_prime) const {
+void RobustLoss::Evaluate(double s, double* rho, double* rho_prime, double* rho_second) const {
   const double c2 = scale * scale;
+  double second = 0.0;
   switch (type) {
     case Type::kNone:
       *rho = s;
       *rho_prime = 1.0;
-      return;
+      break;
     case Type::kHuber:
       if (s <= c2) {
         *rho = s;
@@ -20,13 +21,16 @@ void RobustLoss::Evaluate(double s, double* rho, double* rho_prime) const {
         const double r = std::sqrt(s);
         *rho = 2.0 * scale * r - c2;
         *rho_prime = scale / r;
+        second = -*rho_prime / (2.0 * s);
       }
-      return;
+      break;
     case Type::kCauchy:
       *rho = c2 * std::log1p(s / c2);
       *rho_prime = 1.0 / (1.0 + s / c2);
-      return;
+      second = -*rho_prime * *rho_prime / c2;
+      break;
   }
+  if (rho_second) *rho_second = second;
 }
 
 RobustLoss::Type RobustLoss::TypeFromName(const std::string& name) {

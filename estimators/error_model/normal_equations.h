@@ -22,10 +22,12 @@ struct RobustLoss {
   enum class Type { kNone, kHuber, kCauchy };
   Type type = Type::kNone;
   double scale = 1e-4;  // m: the residual norm c where the loss leaves the quadratic
-  // rho(s) and rho'(s):  none  s, 1;
-  //                      huber s for s <= c^2, else 2 c sqrt(s) - c^2;  rho' = min(1, c / sqrt(s));
-  //                      cauchy c^2 log(1 + s / c^2);                   rho' = 1 / (1 + s / c^2).
-  void Evaluate(double s, double* rho, double* rho_prime) const;
+  // rho(s), rho'(s) and rho''(s):
+  //   none   s, 1, 0;
+  //   huber  s for s <= c^2, else 2 c sqrt(s) - c^2;  rho' = min(1, c / sqrt(s));  rho'' = 0, else -rho' / (2 s);
+  //   cauchy c^2 log(1 + s / c^2);                   rho' = 1 / (1 + s / c^2);     rho'' = -rho'^2 / c^2.
+  // The one definition every backend applies (Ceres through a LossFunction that calls it).
+  void Evaluate(double s, double* rho, double* rho_prime, double* rho_second = nullptr) const;
   // "none", "huber", "cauchy"; throws std::invalid_argument otherwise.
   static Type TypeFromName(const std::string& name);
 };

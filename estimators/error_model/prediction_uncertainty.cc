@@ -6,13 +6,14 @@
 #include <map>
 #include <stdexcept>
 
-#include <Eigen/Eigenvalues>
+#include "estimators/error_model/covariance.h"
 
 namespace kincal {
 namespace {
 
 // Per row of `problem` at x: sqrt(trace(J_S C J_S^T)) over the columns `columns` (problem column ->
-// covariance index, -1 when absent).
+// covariance index, -1 when absent), J the predicted marker position's Jacobian (the pose predictor's),
+// so that every kind of row gets the sd of its predicted point.
 std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const Eigen::MatrixXd& C,
                           const std::vector<int>& columns, int rows) {
   std::vector<int> used, index;
@@ -24,12 +25,12 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
   for (int a = 0; a < q; ++a)
     for (int b = 0; b < q; ++b) Cs(a, b) = C(index[a], index[b]);
   auto ws = problem.NewWorkspace();
-  Vector6d r;
+  PredictedPose pose;
   Matrix6Xd J;
   Eigen::MatrixXd Js(3, q);
   std::vector<double> out(rows);
   for (int i = 0; i < rows; ++i) {
-    problem.EvaluateRow(i, x, ws.get(), &r, &J);
+    problem.PredictRowPose(i, x, ws.get(), &pose, &J);
     // A row the model cannot evaluate (non-finite values) leaves J without its columns.
     if (J.cols() != static_cast<Eigen::Index>(columns.size()) || !J.allFinite()) {
       out[i] = NAN;
@@ -40,26 +41,6 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
     out[i] = variance > 0.0 ? std::sqrt(variance) : (variance == 0.0 ? 0.0 : NAN);
   }
   return out;
-}
-
-// (J^T W J)^+ in the column-normalised basis, eigenvalues below 1e-12 of the largest left out: a fit can
-// end with combinations the data hardly determine (condition numbers of 1e8 and more on the UR10), where
-// a Cholesky factorisation fails, yet they barely move the training poses' predictions.
-Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& JtJ) {
-  const Eigen::Index p = JtJ.rows();
-  // Non-finite entries (a fit driven to huge values) would send the eigensolver astray.
-  if (!JtJ.allFinite()) return Eigen::MatrixXd::Constant(p, p, NAN);
-  Eigen::VectorXd d(p);
-  for (Eigen::Index j = 0; j < p; ++j) d[j] = JtJ(j, j) > 0.0 ? 1.0 / std::sqrt(JtJ(j, j)) : 0.0;
-  const Eigen::MatrixXd S = d.asDiagonal() * JtJ * d.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
-  if (eig.info() != Eigen::Success) return Eigen::MatrixXd::Constant(p, p, NAN);
-  const Eigen::VectorXd& lambda = eig.eigenvalues();
-  const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
-  Eigen::VectorXd inv = Eigen::VectorXd::Zero(p);
-  for (Eigen::Index j = 0; j < p; ++j)
-    if (lambda[j] > cut && lambda[j] > 0.0) inv[j] = 1.0 / lambda[j];
-  return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
 }
 
 // Of the finite values: NaN breaks the ordering nth_element relies on (and can send it past the end).

@@ -1,6 +1,6 @@
 // Gaussian priors of the error model's parameters (error_model_problem.h, PriorOptions): defaults by
-// kind, the `prior` option, their assignment to a problem's candidates and their terms in the normal
-// equations (normal_equations.h, AddPriorTerms).
+// kind, the `prior` option, their assignment to a problem's candidates, the prior factors
+// (prior_factor.h) and their terms in the normal equations (normal_equations.h, AddPriorTerms).
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -8,6 +8,7 @@
 
 #include "estimators/error_model/error_model_problem.h"
 #include "estimators/error_model/normal_equations.h"
+#include "estimators/error_model/prior_factor.h"
 #include "framework/units.h"
 
 namespace kincal {
@@ -116,6 +117,14 @@ void ErrorModelProblem::AssignPriors() {
     // that hardly varies over the poses must not give its coefficient a prior wide enough to predict
     // metres wherever it does vary.
     const double per_unit = p->group == Group::kJointError ? 1.0 / std::max(regressor_rms_[p->coefficient], 1.0) : 1.0;
+    // A fixture's prior is the robot file's sd, whatever the options: it says how well the fixture is known.
+    if (p->group == Group::kFixture) {
+      p->prior_mean = p->start;
+      p->prior_sd = FixturePriorSd(*p);
+      const std::string reference_kind = p->kind == Kind::kLength ? "length" : "angle";
+      p->reference_sd = p->prior_sd > 0.0 ? p->prior_sd : PriorOptions::DefaultSd(reference_kind);
+      return;
+    }
     const std::string reference_kind = !p->prior_kind.empty()     ? p->prior_kind
                                        : p->kind == Kind::kLength ? "length"
                                                                   : "angle";
@@ -153,14 +162,22 @@ void ErrorModelProblem::InheritPriors(const ErrorModelProblem& other) {
   prior_noise_ = other.prior_noise_;
 }
 
-void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, NormalEquations* ne) {
+std::vector<PriorFactor> PriorFactors(const ErrorModelProblem& problem) {
+  std::vector<PriorFactor> out;
   const double noise = problem.prior_noise();
-  if (!(noise > 0.0)) return;
+  if (!(noise > 0.0)) return out;
   const std::vector<ErrorModelParameter>& ps = problem.parameters();
   for (int j = 0; j < static_cast<int>(ps.size()); ++j) {
-    if (!(ps[j].prior_sd > 0.0)) continue;
-    const double w = (noise / ps[j].prior_sd) * (noise / ps[j].prior_sd);
-    const double r = x[j] - ps[j].prior_mean;
+    if (ps[j].prior_sd > 0.0) out.push_back({j, ps[j].prior_mean, noise / ps[j].prior_sd});
+  }
+  return out;
+}
+
+void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, NormalEquations* ne) {
+  for (const PriorFactor& f : PriorFactors(problem)) {
+    const int j = f.index;
+    const double w = f.scale * f.scale;
+    const double r = x[j] - f.mean;
     ne->cost += w * r * r;
     ne->prior_cost += w * r * r;
     if (ne->Jtr.size() == x.size()) ne->Jtr[j] += w * r;
@@ -169,13 +186,8 @@ void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, N
 }
 
 Eigen::VectorXd PriorInformation(const ErrorModelProblem& problem) {
-  const double noise = problem.prior_noise();
-  const std::vector<ErrorModelParameter>& ps = problem.parameters();
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(static_cast<int>(ps.size()));
-  if (!(noise > 0.0)) return d;
-  for (int j = 0; j < d.size(); ++j) {
-    if (ps[j].prior_sd > 0.0) d[j] = (noise / ps[j].prior_sd) * (noise / ps[j].prior_sd);
-  }
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(problem.num_parameters());
+  for (const PriorFactor& f : PriorFactors(problem)) d[f.index] = f.scale * f.scale;
   return d;
 }
 

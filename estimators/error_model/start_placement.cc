@@ -198,6 +198,7 @@ Gathered GatherRows(const Robot& controller, const Dataset& data, const ErrorMod
   const std::vector<Dataset::Previous> previous = data.PreviousPoses();
   for (size_t i = 0; i < data.rows.size(); ++i) {
     const Measurement& m = data.rows[i];
+    if (!m.IsFullPoint()) continue;  // registration needs the three coordinates
     auto s = session_index.find(m.session);
     if (s == session_index.end()) {
       Session session;

@@ -282,6 +282,7 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
                                     EstimationReport* report) const {
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("geometric: invalid options: " + OneLine(why));
+  data.RequireFullPoints("geometric (circle fits)");
   const int n = start.dof();
   const Robot construction_start = ConstructionStart(start);
   const geometric::SweepSet sweeps = geometric::ExtractSweeps(controller, start, data, options_.marker, "geometric",

@@ -35,6 +35,7 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
                                           Robot* identified, EstimationReport* report) const {
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + OneLine(why));
+  data.RequireFullPoints("ratio_regression (arc fits)");
   if (!start.drives) {
     throw std::invalid_argument(
         "ratio_regression: the robot has no drives (ratio, counts_per_rev): there is no ratio to identify");

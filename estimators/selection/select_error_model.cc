@@ -6,8 +6,7 @@
 #include <map>
 #include <set>
 
-#include <Eigen/Eigenvalues>
-
+#include "estimators/error_model/covariance.h"
 #include "estimators/error_model/prediction_uncertainty.h"
 #include "estimators/selection/model_selection.h"
 
@@ -102,27 +101,6 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
     }
   }
   return s;
-}
-
-// The pseudo-inverse of A's `columns` part in the scaled basis, eigenvalues below 1e-12 of the largest left
-// out (as prediction_uncertainty.cc's covariance and error_model.h's identifiability).
-Eigen::MatrixXd ScaledPseudoInverse(const Eigen::MatrixXd& A, const std::vector<int>& columns) {
-  const int q = static_cast<int>(columns.size());
-  Eigen::MatrixXd M(q, q);
-  Eigen::VectorXd d(q);
-  for (int a = 0; a < q; ++a) {
-    const double diag = A(columns[a], columns[a]);
-    d[a] = diag > 0.0 ? 1.0 / std::sqrt(diag) : 0.0;
-  }
-  for (int a = 0; a < q; ++a)
-    for (int c = 0; c < q; ++c) M(a, c) = d[a] * A(columns[a], columns[c]) * d[c];
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
-  const Eigen::VectorXd& lambda = eig.eigenvalues();
-  const double cut = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
-  Eigen::VectorXd inv = Eigen::VectorXd::Zero(q);
-  for (int a = 0; a < q; ++a)
-    if (lambda[a] > cut && lambda[a] > 0.0) inv[a] = 1.0 / lambda[a];
-  return d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
 }
 
 // dx over `columns` (zero elsewhere) solving A dx = -b there: pseudo-inverse of the scaled matrix.
