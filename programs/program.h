@@ -5,12 +5,15 @@
 //
 // Frames and units inside: a pose target is T_frame_tool, the tool's pose in the program's frame (the
 // robot's base, or a work object the caller names), SI; joints are the controller's readings in rad.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "framework/named_registry.h"
 
 namespace kincal {
 
@@ -59,10 +62,23 @@ class ProgramFormat {
   virtual std::vector<double> JointNumbers(const ProgramTarget& target, const Eigen::VectorXd& q) const = 0;
 };
 
-// "rapid", "krl", "urscript", "csv"; throws std::invalid_argument for another name.
+// Program formats by name. A format is its ProgramFormat (one source file) and one Register() line in
+// program.cc; plugins add theirs through PluginRegistrar::AddProgramFormat (framework/plugin.h).
+struct ProgramFormatEntry {
+  std::string name;
+  std::string description;              // one line, shown by `kincal methods`
+  std::vector<std::string> extensions;  // lower case, without the dot: the files it reads by default
+  std::function<std::unique_ptr<ProgramFormat>()> make;
+};
+using ProgramFormatRegistry = NamedRegistry<ProgramFormatEntry>;
+// The built-in formats (rapid, krl, urscript, csv) and those plugins added.
+const ProgramFormatRegistry& ProgramFormats();
+ProgramFormatRegistry& MutableProgramFormats();
+
+// ProgramFormats().Get(name).make(); throws std::invalid_argument naming the registered formats otherwise.
 std::unique_ptr<ProgramFormat> MakeProgramFormat(const std::string& name);
-// The format of a file by its extension (.mod .prg .modx: rapid; .dat .src: krl; .script: urscript; .csv: csv);
-// throws std::invalid_argument naming the extension otherwise.
+// The format of a file by its extension (.mod .prg .modx: rapid; .dat .src: krl; .script: urscript; .csv: csv;
+// and those of registered formats); throws std::invalid_argument naming the extension otherwise.
 std::string ProgramFormatFromExtension(const std::string& path);
 
 // Text positions: 1-based line and column of byte `offset`.
