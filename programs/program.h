@@ -5,7 +5,6 @@
 //
 // Frames and units inside: a pose target is T_frame_tool, the tool's pose in the program's frame (the
 // robot's base, or a work object the caller names), SI; joints are the controller's readings in rad.
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,7 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "framework/named_registry.h"
+#include "framework/extension_points.h"
 
 namespace kincal {
 
@@ -64,13 +63,7 @@ class ProgramFormat {
 
 // Program formats by name. A format is its ProgramFormat (one source file) and one Register() line in
 // program.cc; plugins add theirs through PluginRegistrar::AddProgramFormat (framework/plugin.h).
-struct ProgramFormatEntry {
-  std::string name;
-  std::string description;              // one line, shown by `kincal methods`
-  std::vector<std::string> extensions;  // lower case, without the dot: the files it reads by default
-  std::function<std::unique_ptr<ProgramFormat>()> make;
-};
-using ProgramFormatRegistry = NamedRegistry<ProgramFormatEntry>;
+// ProgramFormatEntry and ProgramFormatRegistry: framework/extension_points.h.
 // The built-in formats (rapid, krl, urscript, csv) and those plugins added.
 const ProgramFormatRegistry& ProgramFormats();
 ProgramFormatRegistry& MutableProgramFormats();
