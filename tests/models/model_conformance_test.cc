@@ -104,16 +104,19 @@ TEST_P(ModelConformance, FramePosesEndAtForwardKinematics) {
 }
 
 TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
-  // For the DH family, joint i turns about z of frame i (MDH) or of frame i-1 (DH).
+  // Joint i turns about z of the frame the model names (JointAxisFrame: frame i for MDH, i-1 for DH).
   const auto model = GetParam().make();
   const Eigen::VectorXd q = RandomJoints(*model, 500);
   const auto frames = model->FramePoses(q);
   const Matrix6Xd J = model->JointJacobian(q);
-  const int offset = model->convention() == "dh" ? 0 : 1;
   for (int i = 0; i < model->dof(); ++i) {
-    Eigen::Vector3d z = frames[i + offset].linear().col(2);
-    // URDF: the axis is any direction in the child link's frame.
-    if (const auto* urdf = dynamic_cast<const UrdfModel*>(model.get())) z = frames[i + 1].linear() * urdf->JointAxis(i);
+    Eigen::Vector3d z;
+    if (const auto* urdf = dynamic_cast<const UrdfModel*>(model.get())) {
+      z = frames[i + 1].linear() * urdf->JointAxis(i);  // URDF: any direction in the child link's frame
+    } else {
+      ASSERT_GE(model->JointAxisFrame(i), 0) << "a model of this suite names each joint's axis frame";
+      z = frames[model->JointAxisFrame(i)].linear().col(2);
+    }
     // A revolute joint turns about z; a prismatic one slides along it.
     const Eigen::Vector3d axis = model->joint_type(i) == JointType::kRevolute ? J.col(i).tail<3>() : J.col(i).head<3>();
     EXPECT_TRUE(axis.isApprox(z, 1e-12)) << "joint " << i + 1;
