@@ -3,6 +3,8 @@
 #include "compensators/builtin.h"
 #include "estimators/builtin.h"
 #include "framework/plugin.h"
+#include "models/model_factory.h"
+#include "programs/program.h"
 
 #include "framework/atomic_file.h"
 #include "framework/error.h"
@@ -47,7 +49,7 @@ std::vector<char*> LoadPlugins(int argc, char** argv) {
       rest.push_back(argv[i]);
     }
   }
-  RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
+  RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators(), &MutableModels(), &MutableProgramFormats());
   for (const auto& path : paths) LoadPlugin(path, registrar);
   return rest;
 }

@@ -56,7 +56,7 @@ void AddFilterCommand(CLI::App& app) {
   cmd->add_option("--identified", a->identified, "the identified (real) robot file")->required();
   cmd->add_option("--program", a->program, "the robot program to filter")->required();
   cmd->add_option("--out", a->out, "the filtered program to write")->required();
-  cmd->add_option("--format", a->format, "rapid, krl, urscript or csv (default: by the program's extension)");
+  cmd->add_option("--format", a->format, "a program format `kincal methods` lists (default: by the program's extension)");
   cmd->add_option("--method", a->method, "compensator (default analytic_derivative; see kincal methods)");
   cmd->add_option("--options", a->options, "the compensator's options (YAML)");
   cmd->add_option("--filter-options", a->filter_options,

@@ -111,10 +111,10 @@ void AddMethodsCommand(CLI::App& app) {
       }
       return;
     }
-    std::cout << "models (robot file `convention`):\n";
-    for (const auto& c : ModelConventions()) std::cout << "  " << c << "\n";
+    List("models (robot file `convention`, kincal convert --to)", Models());
     List("estimators (kincal identify --method; options: kincal methods --options NAME)", Estimators());
     List("compensators (kincal compensate --method; options: kincal methods --options NAME)", Compensators());
+    List("program formats (kincal filter --format)", ProgramFormats());
   });
 }
 

@@ -17,24 +17,39 @@ static_assert(std::is_same_v<PluginRegistrar::EstimatorFactory, Registry<Estimat
 static_assert(std::is_same_v<PluginRegistrar::CompensatorFactory, Registry<Compensator>::Factory>);
 
 void RegistryRegistrar::AddEstimator(const std::string& name, const std::string& description,
-                                     EstimatorFactory factory) {
+                                     EstimatorFactory factory, std::vector<OptionDoc> options) {
   if (name.empty()) throw std::invalid_argument("an estimator needs a name");
   if (!factory) throw std::invalid_argument("estimator '" + name + "': no factory");
   if (estimators_->IsRegistered(name)) {
     throw std::invalid_argument("estimator name '" + name + "' is taken (" + estimators_->Get(name).description + ")");
   }
-  estimators_->Register({name, description, std::move(factory), {}});
+  estimators_->Register({name, description, std::move(factory), std::move(options)});
 }
 
 void RegistryRegistrar::AddCompensator(const std::string& name, const std::string& description,
-                                       CompensatorFactory factory) {
+                                       CompensatorFactory factory, std::vector<OptionDoc> options) {
   if (name.empty()) throw std::invalid_argument("a compensator needs a name");
   if (!factory) throw std::invalid_argument("compensator '" + name + "': no factory");
   if (compensators_->IsRegistered(name)) {
     throw std::invalid_argument("compensator name '" + name + "' is taken (" + compensators_->Get(name).description +
                                 ")");
   }
-  compensators_->Register({name, description, std::move(factory), {}});
+  compensators_->Register({name, description, std::move(factory), std::move(options)});
+}
+
+void RegistryRegistrar::AddModel(const std::string& name, const std::string& description, ModelFactory make,
+                                 ModelConversion convert) {
+  if (!models_) throw std::invalid_argument("model convention '" + name + "': this host takes no model conventions");
+  if (!make || !convert) throw std::invalid_argument("model convention '" + name + "': no factory or conversion");
+  // A plugin's convention shares no parameter family: its names are its own.
+  models_->Register({name, description, std::move(make), std::move(convert), ""});
+}
+
+void RegistryRegistrar::AddProgramFormat(const std::string& name, const std::string& description,
+                                         std::vector<std::string> extensions, ProgramFormatFactory make) {
+  if (!formats_) throw std::invalid_argument("program format '" + name + "': this host takes no program formats");
+  if (!make) throw std::invalid_argument("program format '" + name + "': no factory");
+  formats_->Register({name, description, std::move(extensions), std::move(make)});
 }
 
 void LoadPlugin(const std::string& path, PluginRegistrar& registrar) {

@@ -5,9 +5,13 @@
 //
 //   #include "framework/plugin.h"
 //   KINCAL_PLUGIN(registrar) {
-//     registrar.AddEstimator("my_method", "one line for kincal methods", factory);   // EstimatorRegistry::Factory
-//     registrar.AddCompensator("my_comp", "one line", factory);                     // CompensatorRegistry::Factory
+//     registrar.AddEstimator("my_method", "one line for kincal methods", factory, docs);  // EstimatorRegistry::Factory
+//     registrar.AddCompensator("my_comp", "one line", factory, docs);                    // CompensatorRegistry::Factory
+//     registrar.AddModel("my_convention", "one line", make, convert);                    // ModelConventionEntry
+//     registrar.AddProgramFormat("my_format", "one line", {"ext"}, make);                // ProgramFormatEntry
 //   }
+// `docs` (optional) documents the options the factory reads, for `kincal methods --options NAME`:
+// MyOptions::Table().Docs() with an OptionTable (framework/options.h), or OptionDoc rows by hand.
 //
 // Layering: this header is in the core, below the Estimator and Compensator interfaces, so it only
 // declares them; a plugin includes estimators/estimator.h and compensators/compensator.h to define its
@@ -24,6 +28,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "framework/extension_points.h"
+#include "framework/options.h"
 #include "framework/version.h"
 
 namespace kincal {
@@ -37,10 +43,22 @@ class PluginRegistrar {
   using EstimatorFactory = std::function<std::unique_ptr<Estimator>(const YAML::Node& options)>;
   using CompensatorFactory = std::function<std::unique_ptr<Compensator>(const YAML::Node& options)>;
 
+  using ModelFactory = decltype(ModelConventionEntry::make);
+  using ModelConversion = decltype(ModelConventionEntry::convert);
+  using ProgramFormatFactory = decltype(ProgramFormatEntry::make);
+
   virtual ~PluginRegistrar() = default;
-  // Throw std::invalid_argument when the name is taken (a built-in method or another plugin's).
-  virtual void AddEstimator(const std::string& name, const std::string& description, EstimatorFactory factory) = 0;
-  virtual void AddCompensator(const std::string& name, const std::string& description, CompensatorFactory factory) = 0;
+  // Each throws std::invalid_argument when the name is taken (a built-in one or another plugin's).
+  virtual void AddEstimator(const std::string& name, const std::string& description, EstimatorFactory factory,
+                            std::vector<OptionDoc> options = {}) = 0;
+  virtual void AddCompensator(const std::string& name, const std::string& description, CompensatorFactory factory,
+                              std::vector<OptionDoc> options = {}) = 0;
+  // A model convention: its models, and the conversion of any model into it (`kincal convert --to`).
+  virtual void AddModel(const std::string& name, const std::string& description, ModelFactory make,
+                        ModelConversion convert) = 0;
+  // A robot program format (programs/program.h), read by `kincal filter` for files of `extensions`.
+  virtual void AddProgramFormat(const std::string& name, const std::string& description,
+                                std::vector<std::string> extensions, ProgramFormatFactory make) = 0;
 };
 
 // The entry point every plugin exports (C linkage: a name dlsym finds). Called with nullptr, it returns
@@ -53,17 +71,27 @@ template <typename Product>
 class Registry;
 
 // The registrar of the command line and the Python module: adds to the registries it is given
-// (MutableEstimators() and MutableCompensators()), refusing names already taken.
+// (MutableEstimators(), MutableCompensators(), MutableModels(), MutableProgramFormats()), refusing names
+// already taken; a host that gives no model or program-format registry refuses those with one line.
 class RegistryRegistrar : public PluginRegistrar {
  public:
-  RegistryRegistrar(Registry<Estimator>* estimators, Registry<Compensator>* compensators)
-      : estimators_(estimators), compensators_(compensators) {}
-  void AddEstimator(const std::string& name, const std::string& description, EstimatorFactory factory) override;
-  void AddCompensator(const std::string& name, const std::string& description, CompensatorFactory factory) override;
+  RegistryRegistrar(Registry<Estimator>* estimators, Registry<Compensator>* compensators,
+                    ModelRegistry* models = nullptr, ProgramFormatRegistry* formats = nullptr)
+      : estimators_(estimators), compensators_(compensators), models_(models), formats_(formats) {}
+  void AddEstimator(const std::string& name, const std::string& description, EstimatorFactory factory,
+                    std::vector<OptionDoc> options = {}) override;
+  void AddCompensator(const std::string& name, const std::string& description, CompensatorFactory factory,
+                      std::vector<OptionDoc> options = {}) override;
+  void AddModel(const std::string& name, const std::string& description, ModelFactory make,
+                ModelConversion convert) override;
+  void AddProgramFormat(const std::string& name, const std::string& description, std::vector<std::string> extensions,
+                        ProgramFormatFactory make) override;
 
  private:
   Registry<Estimator>* estimators_;
   Registry<Compensator>* compensators_;
+  ModelRegistry* models_;
+  ProgramFormatRegistry* formats_;
 };
 
 // Loads the shared library at `path` (dlopen RTLD_NOW | RTLD_LOCAL), checks its version and lets it

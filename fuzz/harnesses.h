@@ -23,5 +23,8 @@ int FuzzPipeline(const uint8_t* data, size_t size);
 // between the root and each link); an accepted robot is written as a robot file and as URDF (the
 // source edited, and a new file), and each must read back with the same kinematics.
 int FuzzUrdf(const uint8_t* data, size_t size);
+// First byte picks a registered program format (alphabetical, modulo their count), the rest is a program:
+// accepted targets lie in the text, and written back unchanged by the format's writer they read the same.
+int FuzzPrograms(const uint8_t* data, size_t size);
 
 }  // namespace kincal::fuzz

@@ -15,6 +15,7 @@
 #include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "models/model_factory.h"
 #include "robot/robot_file.h"
 #include "fuzz/harness_util.h"
 #include "fuzz/harnesses.h"
@@ -81,8 +82,8 @@ std::vector<Request> Requests(std::string* text) {
     if (words.size() < 2 || words[0].empty() || words[1].empty()) return {};
     Request r{words[0], words[1]};
     // --convention is the command line's choice, not the file's: only the conventions there are.
-    for (const char* c : {"mdh", "dh", "hayati", "poe"}) {
-      if (words.size() > 2 && words[2] == c) r.convention = c;
+    for (const std::string& c : ModelConventions()) {
+      if (c != "urdf" && words.size() > 2 && words[2] == c) r.convention = c;
     }
     return {r};
   }
@@ -113,8 +114,8 @@ std::vector<Request> Requests(std::string* text) {
   }
   const std::vector<std::string> names(links.begin(), links.end());
   const uint64_t h = Hash(*text);
-  const char* conventions[] = {"urdf", "mdh", "dh", "hayati", "poe"};
-  out.push_back({names[h % names.size()], names[(h / 7) % names.size()], conventions[(h / 131) % 5]});
+  const std::vector<std::string> conventions = ModelConventions();
+  out.push_back({names[h % names.size()], names[(h / 7) % names.size()], conventions[(h / 131) % conventions.size()]});
   return out;
 }
 

@@ -22,7 +22,8 @@ const NamedHarness kHarnesses[] = {{"robot_file", kincal::fuzz::FuzzRobotFile},
                                    {"study_file", kincal::fuzz::FuzzStudyFile},
                                    {"options", kincal::fuzz::FuzzOptions},
                                    {"pipeline", kincal::fuzz::FuzzPipeline},
-                                   {"urdf", kincal::fuzz::FuzzUrdf}};
+                                   {"urdf", kincal::fuzz::FuzzUrdf},
+                                   {"programs", kincal::fuzz::FuzzPrograms}};
 
 }  // namespace
 

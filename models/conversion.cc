@@ -10,6 +10,7 @@
 #include "models/dh_model.h"
 #include "models/hayati_model.h"
 #include "models/mdh_model.h"
+#include "models/model_factory.h"
 #include "models/poe_model.h"
 #include "models/urdf_model.h"
 
@@ -217,22 +218,18 @@ double KinematicDifference(const KinematicModel& a, const KinematicModel& b) {
 
 }  // namespace
 
+std::unique_ptr<KinematicModel> MdhFrom(const KinematicModel& model) { return ToMdh(model); }
+std::unique_ptr<KinematicModel> DhFrom(const KinematicModel& model) { return DhFromMdh(*ToMdh(model)); }
+std::unique_ptr<KinematicModel> HayatiFrom(const KinematicModel& model) { return HayatiFromMdh(*ToMdh(model)); }
+std::unique_ptr<KinematicModel> UrdfFrom(const KinematicModel& model) { return UrdfFromModel(model); }
+
 std::unique_ptr<KinematicModel> ConvertModel(const KinematicModel& model, const std::string& convention) {
   if (convention == model.convention()) return model.Clone();
-  std::unique_ptr<KinematicModel> out;
-  if (convention == "poe") {
-    out = std::make_unique<PoeModel>(PoeModel::FromModel(model));
-  } else if (convention == "urdf") {
-    out = UrdfFromModel(model);
-  } else if (convention == "mdh") {
-    out = ToMdh(model);
-  } else if (convention == "dh") {
-    out = DhFromMdh(*ToMdh(model));
-  } else if (convention == "hayati") {
-    out = HayatiFromMdh(*ToMdh(model));
-  } else {
-    Refuse(model, convention, "unknown convention (expected mdh, dh, hayati, poe or urdf)");
+  if (!Models().IsRegistered(convention)) {
+    Refuse(model, convention, "unknown convention (expected one of: " + Models().NameList() + ")");
   }
+  const ModelConventionEntry& into = Models().Get(convention);
+  std::unique_ptr<KinematicModel> out = into.convert(model);
   if (!out->Parameters().allFinite()) Refuse(model, convention, "the conversion gave non-finite parameters");
   const double difference = KinematicDifference(model, *out);
   if (difference > 1e-9) {
@@ -240,10 +237,11 @@ std::unique_ptr<KinematicModel> ConvertModel(const KinematicModel& model, const 
            "the converted forward kinematics differ by " + std::to_string(difference) +
                " (relative); the joint axes may be degenerate for this convention");
   }
-  // Only mdh and hayati share the meaning of their names (the other conversions move numbers between
-  // rows); there the fixed/free state carries over, elsewhere everything starts free.
-  const bool same_rows = (model.convention() == "mdh" || model.convention() == "hayati") &&
-                         (convention == "mdh" || convention == "hayati");
+  // Only conventions of one family share the meaning of their names (the other conversions move
+  // numbers between rows); there the fixed/free state carries over, elsewhere everything starts free.
+  const std::string& family = into.parameter_family;
+  const bool same_rows = !family.empty() && Models().IsRegistered(model.convention()) &&
+                         Models().Get(model.convention()).parameter_family == family;
   if (same_rows) {
     for (const auto& info : model.parameter_info()) {
       if (out->FindParameter(info.name) >= 0)

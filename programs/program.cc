@@ -15,24 +15,41 @@ std::unique_ptr<ProgramFormat> MakeKrlFormat();
 std::unique_ptr<ProgramFormat> MakeUrScriptFormat();
 std::unique_ptr<ProgramFormat> MakeCsvProgramFormat();
 
-std::unique_ptr<ProgramFormat> MakeProgramFormat(const std::string& name) {
-  if (name == "rapid") return MakeRapidFormat();
-  if (name == "krl") return MakeKrlFormat();
-  if (name == "urscript") return MakeUrScriptFormat();
-  if (name == "csv") return MakeCsvProgramFormat();
-  throw std::invalid_argument("unknown program format '" + name + "' (rapid, krl, urscript, csv)");
+namespace {
+
+ProgramFormatRegistry MakeRegistry() {
+  ProgramFormatRegistry r("program format");
+  r.Register({"rapid", "ABB RAPID modules: robtarget and jointtarget", {"mod", "prg", "modx"}, MakeRapidFormat});
+  r.Register({"krl", "KUKA KRL data lists: E6POS, POS, FRAME, E6AXIS and AXIS declarations", {"dat", "src"}, MakeKrlFormat});
+  r.Register({"urscript", "Universal Robots URScript: p[...] poses and joint lists", {"script"}, MakeUrScriptFormat});
+  r.Register({"csv", "targets as CSV, the dataset's position and orientation columns", {"csv"}, MakeCsvProgramFormat});
+  return r;
 }
+
+}  // namespace
+
+ProgramFormatRegistry& MutableProgramFormats() {
+  static ProgramFormatRegistry registry = MakeRegistry();
+  return registry;
+}
+
+const ProgramFormatRegistry& ProgramFormats() { return MutableProgramFormats(); }
+
+std::unique_ptr<ProgramFormat> MakeProgramFormat(const std::string& name) { return ProgramFormats().Get(name).make(); }
 
 std::string ProgramFormatFromExtension(const std::string& path) {
   const size_t dot = path.find_last_of('.');
   std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == "mod" || ext == "prg" || ext == "modx") return "rapid";
-  if (ext == "dat" || ext == "src") return "krl";
-  if (ext == "script") return "urscript";
-  if (ext == "csv") return "csv";
-  throw std::invalid_argument(path + ": no program format for the extension '." + ext +
-                              "' (.mod .prg .modx, .dat .src, .script, .csv; or give --format)");
+  std::string known;
+  for (const ProgramFormatEntry* entry : ProgramFormats().Entries()) {
+    for (const std::string& e : entry->extensions) {
+      if (e == ext) return entry->name;
+      known += (known.empty() ? "." : " .") + e;
+    }
+  }
+  throw std::invalid_argument(path + ": no program format for the extension '." + ext + "' (" + known +
+                              "; or give --format)");
 }
 
 void LineAndColumn(const std::string& text, size_t offset, int* line, int* column) {

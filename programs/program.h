@@ -12,6 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "framework/extension_points.h"
+
 namespace kincal {
 
 // How a format names the controller's branch of a pose (programs/configuration.h).
@@ -59,10 +61,17 @@ class ProgramFormat {
   virtual std::vector<double> JointNumbers(const ProgramTarget& target, const Eigen::VectorXd& q) const = 0;
 };
 
-// "rapid", "krl", "urscript", "csv"; throws std::invalid_argument for another name.
+// Program formats by name. A format is its ProgramFormat (one source file) and one Register() line in
+// program.cc; plugins add theirs through PluginRegistrar::AddProgramFormat (framework/plugin.h).
+// ProgramFormatEntry and ProgramFormatRegistry: framework/extension_points.h.
+// The built-in formats (rapid, krl, urscript, csv) and those plugins added.
+const ProgramFormatRegistry& ProgramFormats();
+ProgramFormatRegistry& MutableProgramFormats();
+
+// ProgramFormats().Get(name).make(); throws std::invalid_argument naming the registered formats otherwise.
 std::unique_ptr<ProgramFormat> MakeProgramFormat(const std::string& name);
-// The format of a file by its extension (.mod .prg .modx: rapid; .dat .src: krl; .script: urscript; .csv: csv);
-// throws std::invalid_argument naming the extension otherwise.
+// The format of a file by its extension (.mod .prg .modx: rapid; .dat .src: krl; .script: urscript; .csv: csv;
+// and those of registered formats); throws std::invalid_argument naming the extension otherwise.
 std::string ProgramFormatFromExtension(const std::string& path);
 
 // Text positions: 1-based line and column of byte `offset`.

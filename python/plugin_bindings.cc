@@ -18,6 +18,7 @@
 #include "estimators/builtin.h"
 #include "framework/error.h"
 #include "framework/plugin.h"
+#include "models/model_factory.h"
 #include "python/bindings.h"
 #include "python/conversions.h"
 
@@ -263,7 +264,8 @@ void BindPlugins(py::module_& m) {
   m.def(
       "load_plugin",
       [](const py::object& path) {
-        RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators());
+        // The module reads no robot programs: a plugin's program format is refused here with one line.
+        RegistryRegistrar registrar(&MutableEstimators(), &MutableCompensators(), &MutableModels());
         LoadPlugin(FsPath(path), registrar);
       },
       py::arg("path"),

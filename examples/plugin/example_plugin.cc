@@ -85,7 +85,9 @@ KINCAL_PLUGIN(registrar) {
                            if (!options.IsValid(&why))
                              throw std::invalid_argument("invalid options: " + kincal::OneLine(why));
                            return std::make_unique<kincal::LeastSquaresEstimator>(options);
-                         });
+                         },
+                         // Its options' documentation, for `kincal methods --options example_least_squares`.
+                         kincal::LeastSquaresEstimator::Options::Table().Docs());
   registrar.AddCompensator(
       "example_newton", "example plugin: undamped Newton steps on the 6-D pose error of the identified arm",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Compensator> {
@@ -100,5 +102,9 @@ KINCAL_PLUGIN(registrar) {
               "example_newton: length_scale, max_iterations and step_tolerance must be positive");
         }
         return std::make_unique<NewtonCompensator>(options);
-      });
+      },
+      // The keys the factory reads, written by hand (an OptionTable, framework/options.h, gives them too).
+      {{"length_scale", "length", "0.5 m", "position error / length_scale beside the rotation (rad), as `jacobian`"},
+       {"max_iterations", "integer", "50", "Newton steps at most"},
+       {"step_tolerance", "number", "1e-10", "rad: stop once every joint moves less"}});
 }

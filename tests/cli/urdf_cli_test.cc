@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "framework/random.h"
+#include "models/model_factory.h"
 #include "robot/robot_file.h"
 #include "tests/support/test_util.h"
 
@@ -32,7 +33,7 @@ TEST(UrdfCli, ConvertSeedArmToEveryConvention) {
   testing::TempDir dir;
   const std::string seed = SourcePath("examples/robots/seed_identified.yaml");
   const Robot original = ReadRobotFile(seed);
-  for (const std::string to : {"mdh", "dh", "hayati", "poe", "urdf"}) {
+  for (const std::string& to : ModelConventions()) {
     const auto r = RunKincal("convert " + seed + " --to " + to + " --out " + dir.path(to + ".yaml"));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const Robot converted = ReadRobotFile(dir.path(to + ".yaml"));

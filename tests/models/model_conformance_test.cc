@@ -7,6 +7,7 @@
 #include "models/hayati_model.h"
 #include "models/poe_model.h"
 #include "models/mdh_model.h"
+#include "models/model_factory.h"
 #include "models/urdf_model.h"
 #include "tests/support/test_util.h"
 
@@ -103,16 +104,19 @@ TEST_P(ModelConformance, FramePosesEndAtForwardKinematics) {
 }
 
 TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
-  // For the DH family, joint i turns about z of frame i (MDH) or of frame i-1 (DH).
+  // Joint i turns about z of the frame the model names (JointAxisFrame: frame i for MDH, i-1 for DH).
   const auto model = GetParam().make();
   const Eigen::VectorXd q = RandomJoints(*model, 500);
   const auto frames = model->FramePoses(q);
   const Matrix6Xd J = model->JointJacobian(q);
-  const int offset = model->convention() == "dh" ? 0 : 1;
   for (int i = 0; i < model->dof(); ++i) {
-    Eigen::Vector3d z = frames[i + offset].linear().col(2);
-    // URDF: the axis is any direction in the child link's frame.
-    if (const auto* urdf = dynamic_cast<const UrdfModel*>(model.get())) z = frames[i + 1].linear() * urdf->JointAxis(i);
+    Eigen::Vector3d z;
+    if (const auto* urdf = dynamic_cast<const UrdfModel*>(model.get())) {
+      z = frames[i + 1].linear() * urdf->JointAxis(i);  // URDF: any direction in the child link's frame
+    } else {
+      ASSERT_GE(model->JointAxisFrame(i), 0) << "a model of this suite names each joint's axis frame";
+      z = frames[model->JointAxisFrame(i)].linear().col(2);
+    }
     // A revolute joint turns about z; a prismatic one slides along it.
     const Eigen::Vector3d axis = model->joint_type(i) == JointType::kRevolute ? J.col(i).tail<3>() : J.col(i).head<3>();
     EXPECT_TRUE(axis.isApprox(z, 1e-12)) << "joint " << i + 1;
@@ -168,40 +172,33 @@ TEST(PoeConversion, SameForwardKinematicsAsTheSourceModel) {
   }
 }
 
+// Every registered convention (a plugin's too, registered before the tests start) with six revolute
+// joints and with a prismatic joint between two revolute ones; then other sizes and joint mixes.
+std::vector<ModelCase> ModelCases() {
+  using J = JointType;
+  const std::vector<std::pair<std::string, std::vector<JointType>>> shapes = {
+      {"6", std::vector<JointType>(6, J::kRevolute)}, {"_rpr", {J::kRevolute, J::kPrismatic, J::kRevolute}}};
+  std::vector<ModelCase> cases;
+  uint64_t seed = 1;
+  for (const std::string& convention : ModelConventions()) {
+    for (const auto& [suffix, joints] : shapes) {
+      cases.push_back({convention + suffix, [convention, joints = joints, s = seed++] {
+                         return RandomizedModel(MakeModel(convention, joints), s);
+                       }});
+    }
+  }
+  cases.push_back({"mdh3", [] { return RandomizedModel(std::make_unique<MdhModel>(3), 3); }});
+  cases.push_back({"mdh7", [] { return RandomizedModel(std::make_unique<MdhModel>(7), 4); }});
+  cases.push_back({"mdh_rrp", [] {
+                     return RandomizedModel(std::make_unique<MdhModel>(std::vector<JointType>{
+                                                JointType::kRevolute, JointType::kRevolute, JointType::kPrismatic}),
+                                            5);
+                   }});
+  return cases;
+}
+
 INSTANTIATE_TEST_SUITE_P(
-    AllModels, ModelConformance,
-    ::testing::Values(
-        ModelCase{"mdh6", [] { return RandomizedModel(std::make_unique<MdhModel>(6), 1); }},
-        ModelCase{"dh6", [] { return RandomizedModel(std::make_unique<DhModel>(6), 2); }},
-        ModelCase{"hayati6", [] { return RandomizedModel(std::make_unique<HayatiModel>(6), 7); }},
-        ModelCase{"poe6", [] { return RandomizedModel(std::make_unique<PoeModel>(6), 8); }},
-        ModelCase{"poe_rpr",
-                  [] {
-                    return RandomizedModel(std::make_unique<PoeModel>(std::vector<JointType>{
-                                          JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
-                                      9);
-                  }},
-        ModelCase{"urdf6", [] { return RandomizedModel(std::make_unique<UrdfModel>(6), 10); }},
-        ModelCase{"urdf_rpr",
-                  [] {
-                    return RandomizedModel(std::make_unique<UrdfModel>(std::vector<JointType>{
-                                          JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
-                                      12);
-                  }},
-        ModelCase{"mdh3", [] { return RandomizedModel(std::make_unique<MdhModel>(3), 3); }},
-        ModelCase{"mdh7", [] { return RandomizedModel(std::make_unique<MdhModel>(7), 4); }},
-        ModelCase{"mdh_rrp",
-                  [] {
-                    return RandomizedModel(std::make_unique<MdhModel>(std::vector<JointType>{
-                                          JointType::kRevolute, JointType::kRevolute, JointType::kPrismatic}),
-                                      5);
-                  }},
-        ModelCase{"dh_rpr",
-                  [] {
-                    return RandomizedModel(std::make_unique<DhModel>(std::vector<JointType>{
-                                          JointType::kRevolute, JointType::kPrismatic, JointType::kRevolute}),
-                                      6);
-                  }}),
+    AllModels, ModelConformance, ::testing::ValuesIn(ModelCases()),
     [](const ::testing::TestParamInfo<ModelCase>& info) { return info.param.label; });
 
 }  // namespace

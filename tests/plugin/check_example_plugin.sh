@@ -25,6 +25,11 @@ cd "$WORK"
 
 "$K" --plugin "$P" methods >methods.txt
 grep -q "example_least_squares" methods.txt && grep -q "example_newton" methods.txt || fail "methods does not list the plugin"
+# The option docs the plugin registered, as the built-in methods' are printed.
+"$K" --plugin "$P" methods --options example_newton | grep -q "step_tolerance" \
+  || fail "methods --options does not print the plugin compensator's keys"
+"$K" --plugin "$P" methods --options example_least_squares | grep -q "max_iterations" \
+  || fail "methods --options does not print the plugin estimator's keys"
 KINCAL_PLUGIN_PATH=":$P:" "$K" methods | grep -q example_newton \
   || fail "KINCAL_PLUGIN_PATH not read"
 
@@ -164,6 +169,8 @@ cat >other_version.cc <<'CXX'
 #define KINCAL_VERSION_STRING "0.0.1-other"
 KINCAL_PLUGIN(registrar) { (void)registrar; }
 CXX
-c++ -std=c++17 -shared -fPIC -I"$WORK/prefix/include/kincal" other_version.cc -o other_version.so
+# framework/plugin.h declares the model registrations, whose interface is Eigen's: its headers too.
+c++ -std=c++17 -shared -fPIC -I"$WORK/prefix/include/kincal" $(pkg-config --cflags eigen3) other_version.cc \
+  -o other_version.so
 expect_refusal "another version" "built against kincal 0.0.1-other, this is kincal" "$K" --plugin other_version.so methods
 echo "check_example_plugin: ok"

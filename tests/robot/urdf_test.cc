@@ -15,6 +15,7 @@
 #include "models/dh_model.h"
 #include "models/hayati_model.h"
 #include "models/mdh_model.h"
+#include "models/model_factory.h"
 #include "models/poe_model.h"
 #include "robot/urdf_io.h"
 #include "models/urdf_model.h"
@@ -27,7 +28,7 @@ namespace {
 using testing::FromKdl;
 using testing::ToKdl;
 
-const std::vector<std::string> kConventions = {"mdh", "dh", "hayati", "poe", "urdf"};
+const std::vector<std::string> kConventions = ModelConventions();
 std::string Irb120Urdf() { return testing::SourcePath("tests/data/irb120_3_58.urdf"); }
 
 Eigen::VectorXd RandomQ(const Robot& robot, Rng* rng) {
