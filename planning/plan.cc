@@ -50,6 +50,32 @@ double ParseCell(const CsvRow& row, int column, const std::string& source) {
 
 std::string ReasonKind(const std::string& why) { return why.substr(0, why.find(':')); }
 
+// The robot whose parameters the design is for (PlanOptions::design_model): the nominal, or the nominal
+// with gravity and harmonic terms on every revolute joint that has none of that type.
+Robot DesignRobot(const Robot& nominal, const PlanOptions& options) {
+  if (options.design_model == "geometry") return nominal;
+  Robot design = nominal;
+  using Type = JointErrorTerm::Type;
+  const auto has = [&](int joint, Type type) {
+    for (const JointErrorTerm& t : nominal.joint_errors.terms) {
+      if (t.joint == joint && t.type == type) return true;
+    }
+    return false;
+  };
+  for (Type type : {Type::kGravity, Type::kHarmonic}) {
+    for (int j = 0; j < nominal.dof(); ++j) {
+      if (nominal.model().joint_type(j) != JointType::kRevolute || has(j, type)) continue;
+      JointErrorTerm term;
+      term.type = type;
+      term.joint = j;
+      if (type == Type::kHarmonic) term.orders = {1, 2};
+      design.joint_errors.terms.push_back(term);
+    }
+  }
+  design.joint_errors.Bind(design.model());
+  return design;
+}
+
 }  // namespace
 
 CandidatePool ParseCandidatePool(const std::string& text, const std::string& source, const Robot& robot) {
@@ -126,7 +152,15 @@ PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool,
                                 std::to_string(feasible.size()) + " of " + std::to_string(pool.q.size()) +
                                 " candidates meet the constraints (rejected: " + reasons + ")");
   }
-  problem.model = BuildInformation(nominal, feasible, options.measurement_noise);
+  Robot design = DesignRobot(nominal, options);
+  try {
+    problem.model = BuildInformation(design, feasible, options.measurement_noise);
+  } catch (const std::invalid_argument&) {
+    // Too few candidates for the potential terms (3 residuals each): design for the file's parameters,
+    // whose own errors then surface from BuildInformation.
+    design = nominal;
+    problem.model = BuildInformation(design, feasible, options.measurement_noise);
+  }
   if (options.criterion == "I") {
     if (options.workspace_samples > 0) {
       PlanOptions drawn = options;
@@ -137,7 +171,7 @@ PlanningProblem PreparePlanning(const Robot& nominal, const CandidatePool& pool,
       }
     }
     if (workspace.empty()) throw std::invalid_argument("plan: no configuration of the workspace sample meets the arm's constraints");
-    problem.workspace = WorkspaceRows(nominal, workspace, options.measurement_noise, problem.model);
+    problem.workspace = WorkspaceRows(design, workspace, options.measurement_noise, problem.model);
   }
   return problem;
 }

@@ -55,6 +55,10 @@ const OptionTable<PlanOptions>& PlanOptions::Table() {
              OneOf({"D", "A", "I"}))
         .Add("measurement_noise", U::kLength, &O::measurement_noise,
              "noise per coordinate of a measurement: weighs the priors against the data", Positive())
+        .Add("design_model", &O::design_model,
+             "parameters the design is for: geometry (the robot file's), or joint_level (also gravity and "
+             "harmonic terms of every revolute joint, with their priors: a model-robust design)",
+             OneOf({"geometry", "joint_level"}))
         .Add("workspace_samples", &O::workspace_samples,
              "I-optimality's workspace: configurations drawn within the limits; 0: the candidates (those the arm reaches)", AtLeast(0))
         .Add("settle_time", &O::settle_time, "seconds the program waits at each pose", NonNegative())

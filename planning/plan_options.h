@@ -39,6 +39,16 @@ struct PlanOptions {
   // (docs/planning.md, tests/real_data/plan_real_data_test.cc), D the worst.
   std::string criterion = "I";
   double measurement_noise = 1e-4;  // m per coordinate: weighs the priors against a measurement
+  // The parameters the design is for. "geometry": the robot file's own (its geometry, and its joint-level
+  // terms if it has any). "joint_level": also gravity and harmonic (orders 1, 2) terms on every revolute
+  // joint the file gives none, with their default priors (models/joint_errors.h), whether or not the fit
+  // will estimate them: a model-robust design that also spreads the poses over what the geometry cannot
+  // fit. This is the Bayesian design of DuMouchel and Jones (Technometrics 36(1), 1994): the model's
+  // primary terms plus potential terms, the latter with a finite prior variance, in the information
+  // matrix. With fewer candidate residuals (3 each) than parameters, the design falls back to the
+  // file's parameters. Backlash and approach are left out: they depend on the order of the poses, which is chosen
+  // after them.
+  std::string design_model = "joint_level";
   // I-optimality's workspace: this many configurations drawn within the limits (seeded); 0: the
   // candidates. Either way, those that meet the arm's own constraints (the tracker's aside).
   int workspace_samples = 0;
