@@ -36,12 +36,6 @@ double DataCost(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const 
   return AccumulateNormalEquations(*prep.problem, x, weighting, Accumulate::kCost, false).cost;
 }
 
-// chi^2's 99.9 % quantile with k degrees of freedom (Wilson-Hilferty: 3 % high at k = 1, closer above).
-double ChiSquareQuantile999(int k) {
-  const double a = 2.0 / (9.0 * k), z = 3.0902;
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
-}
-
 PreparedErrorModel CopyOf(const PreparedErrorModel& p) {
   PreparedErrorModel c;
   c.input = p.input;
@@ -109,33 +103,6 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // Where a bounded solver ended on a bound, the bound decided those parameters, not the data: the weak
   // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
   const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
-  // Weak parameters are held at their start values on the premise that the data cannot tell those apart
-  // from where the fit left them. Where the refit's data cost rises by more than chi^2's 99.9 % quantile
-  // (as many degrees of freedom as parameters held, in the noise of the fit before) the data reject the
-  // hold, and the fit before it stands, its weak parameters named (distances to three unknown pivots: a
-  // wrist angle and the tool's length trade with the pivots, weak, yet far from their start).
-  struct BeforeHold {
-    PreparedErrorModel prep;
-    Eigen::VectorXd x;
-    MinimizerRun run;
-    double cost, sigma;
-  };
-  const auto snapshot = [&]() {
-    return BeforeHold{CopyOf(prep), x, run, DataCost(prep, x, weighting), SigmaAt(*prep.problem, x, weighting)};
-  };
-  const auto undo_if_rejected = [&](BeforeHold& before) {
-    const int held = static_cast<int>(prep.weak_held.size() - before.prep.weak_held.size());
-    if (!(held > 0 && before.sigma > 0.0)) return;
-    const double rise = (DataCost(prep, x, weighting) - before.cost) / (before.sigma * before.sigma);
-    if (!(rise > ChiSquareQuantile999(held))) return;
-    prep = std::move(before.prep);
-    x = before.x;
-    run = before.run;
-    NameWeakParameters(x, weighting, &prep);
-    prep.warnings.push_back("weak parameters kept free: held at their start values the data cost rose by " +
-                            std::to_string(rise) + " noise variances");
-  };
-  BeforeHold before = snapshot();
   if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) {
     if (FinishIfNothingFree(prep, identified, report)) return;  // every parameter was weak
     const Eigen::VectorXd restart = x;
@@ -148,19 +115,16 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       spent = 0;
       run = run_from();
     }
-    undo_if_rejected(before);
   }
   // A run that used its budget in a flat valley is at the bottom in every direction but its weak ones:
   // they are named as at a converged solution, those without a prior held, and the fit starts again from
   // there with a budget of its own (once: a second flat valley keeps its status).
-  before = snapshot();
   if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run) &&
       InFlatValley(AccumulateNormalEquations(*prep.problem, x, weighting)) &&
       HoldWeakParameters(x, weighting, &prep, &x)) {
     if (FinishIfNothingFree(prep, identified, report)) return;
     spent = 0;
     run = run_from();
-    undo_if_rejected(before);
   }
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
   if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
