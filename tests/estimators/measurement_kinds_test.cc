@@ -2,7 +2,9 @@
 // known: the problem's Jacobian over every kind and fixture block against central differences, what
 // identifiability holds for distances and for one plane, and recovery of the arm from distances to
 // unknown pivots.
+#include <cstdio>
 #include <functional>
+#include <map>
 
 #include <gtest/gtest.h>
 
@@ -71,13 +73,14 @@ std::vector<Eigen::Vector3d> Pivots(const Robot& truth) {
   return {B * Eigen::Vector3d(0.7, 0.0, 0.3), B * Eigen::Vector3d(0.0, 0.7, 0.3), B * Eigen::Vector3d(-0.5, -0.5, 0.5)};
 }
 
-void MakeDistances(KindsCase* c) {
+void MakeDistances(KindsCase* c, double noise = 0.0, uint64_t seed = 1) {
   const auto pivots = Pivots(c->truth);
+  Rng rng(seed);
   for (size_t i = 0; i < c->data.rows.size(); ++i) {
     Measurement& m = c->data.rows[i];
     m.kind = MeasurementKind::kDistance;
     m.fixture = "P" + std::to_string(i % 3 + 1);
-    m.distance = (m.p - pivots[i % 3]).norm();
+    m.distance = (m.p - pivots[i % 3]).norm() + noise * rng.Normal();
     m.p.setZero();
   }
 }
@@ -88,14 +91,18 @@ void PlaneOf(const Robot& truth, Eigen::Vector3d* n, double* offset) {
   *offset = truth.model().base().translation().z() + 0.3;
 }
 
-void MakePlaneContacts(KindsCase* c) {
+// Noise (m, sd) along what each instrument reads, drawn from `seed`: the distance, the contact's height
+// over its plane, the socket's position, a gauge's components.
+void MakePlaneContacts(KindsCase* c, double noise = 0.0, uint64_t seed = 1) {
   Eigen::Vector3d n;
   double offset;
   PlaneOf(c->truth, &n, &offset);
+  Rng rng(seed);
   std::vector<Measurement> kept;
   for (size_t i = 0; i < c->data.rows.size(); ++i) {
+    const double e = noise * rng.Normal();
     const bool touched = Touch(*c, &c->data, i, [&](const Eigen::Vector3d& p) {
-      return Eigen::VectorXd::Constant(1, n.dot(p) - offset);
+      return Eigen::VectorXd::Constant(1, n.dot(p) - offset - e);
     });
     Measurement m = c->data.rows[i];
     if (!touched || !WithinLimits(c->nominal, m.q)) continue;
@@ -107,17 +114,19 @@ void MakePlaneContacts(KindsCase* c) {
   c->data.rows = kept;
 }
 
-void MakeFixedPoints(KindsCase* c) {
+void MakeFixedPoints(KindsCase* c, double noise = 0.0, uint64_t seed = 1) {
   const Eigen::Vector3d socket = c->data.rows[0].p;  // a point the truth arm reaches
   const Eigen::VectorXd q0 = c->data.rows[0].q;
-  Rng rng(13);
+  Rng rng(13), noise_rng(seed);
   std::vector<Measurement> kept;
   for (size_t i = 0; i < c->data.rows.size(); ++i) {
     // The tool turned in the socket: the wrist moved, the first three joints solved.
     Eigen::VectorXd& q = c->data.rows[i].q;
     q = q0;
     for (int j = 3; j < q.size(); ++j) q[j] += rng.Uniform(-0.6, 0.6);
-    const bool touched = Touch(*c, &c->data, i, [&](const Eigen::Vector3d& p) { return Eigen::VectorXd(p - socket); });
+    const Eigen::Vector3d e(noise * noise_rng.Normal(), noise * noise_rng.Normal(), noise * noise_rng.Normal());
+    const bool touched =
+        Touch(*c, &c->data, i, [&](const Eigen::Vector3d& p) { return Eigen::VectorXd(p - socket - e); });
     Measurement m = c->data.rows[i];
     if (!touched || !WithinLimits(c->nominal, m.q)) continue;
     m.kind = MeasurementKind::kFixedPoint;
@@ -128,9 +137,11 @@ void MakeFixedPoints(KindsCase* c) {
   c->data.rows = kept;
 }
 
-void MakePartialPoints(KindsCase* c) {
+void MakePartialPoints(KindsCase* c, double noise = 0.0, uint64_t seed = 1) {
+  Rng rng(seed);
   for (size_t i = 0; i < c->data.rows.size(); ++i) {
     Measurement& m = c->data.rows[i];
+    for (int a = 0; a < 3; ++a) m.p[a] += noise * rng.Normal();
     if (i % 3 == 0) continue;
     m.axes = {{i % 3 == 1, true, i % 3 == 1}};
     for (int a = 0; a < 3; ++a) {
@@ -255,6 +266,44 @@ TEST(MeasurementKinds, DistancesAloneRecoverTheArmsShape) {
   EXPECT_GT(worst_start, 1e-4);
   EXPECT_LT(worst, 1e-8);
 }
+
+// The four estimators minimise one cost over one parameter layout, so on every kind they end at one
+// minimum: the same residual RMS and the same parameters (to a small fraction of their sd). Noisy rows,
+// so that the minimum's RMS is a figure to agree on, not a rounding error of zero.
+class KindsAgreement : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(KindsAgreement, TheFourEstimatorsReachOneMinimum) {
+  const double noise = 10e-6;
+  KindsCase c = RandomCase(150, 17);
+  const std::string kind = GetParam();
+  if (kind == "distance") MakeDistances(&c, noise, 41);
+  if (kind == "plane") MakePlaneContacts(&c, noise, 42);
+  if (kind == "fixed_point") MakeFixedPoints(&c, noise, 43);
+  if (kind == "partial_point") MakePartialPoints(&c, noise, 44);
+  ASSERT_GE(c.data.rows.size(), 25u);  // a socket is reached in fewer wrist turns than the others' rows
+  std::map<std::string, EstimationReport> reports;
+  for (const char* name : {"least_squares", "ceres", "nlopt", "ipopt"}) {
+    Robot identified;
+    EstimationReport& report = reports[name];
+    report = Estimators().Create(name, YAML::Node())->Estimate(c.nominal, c.data, &identified);
+    EXPECT_EQ(report.status, EstimationStatus::kConverged) << name << ": " << report.BriefReport();
+    std::printf("%s, %s: %s\n", kind.c_str(), name, report.BriefReport().c_str());
+  }
+  const EstimationReport& ref = reports["least_squares"];
+  EXPECT_GT(ref.final_rms, 0.3 * noise);
+  for (const auto& [name, report] : reports) {
+    EXPECT_NEAR(report.final_rms, ref.final_rms, 1e-6 * ref.final_rms) << name;
+    ASSERT_EQ(report.parameters.size(), ref.parameters.size()) << name;
+    for (size_t j = 0; j < ref.parameters.size(); ++j) {
+      const ParameterEstimate& p = ref.parameters[j];
+      if (!p.free) continue;
+      EXPECT_NEAR(report.parameters[j].value, p.value, 1e-3 * p.stddev) << name << " " << p.name;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryKind, KindsAgreement,
+                         ::testing::Values("distance", "plane", "fixed_point", "partial_point"));
 
 TEST(MeasurementKinds, FixtureRowsOutsideSessionZeroAreRefused) {
   KindsCase c = RandomCase(40, 11);
