@@ -173,11 +173,19 @@ bool BestRepair(const Robot& robot, const Dataset& data, const DoctorOptions& o,
 
 std::vector<Finding> Diagnose(const Robot& robot, const Dataset& data, const DoctorOptions& options) {
   std::vector<Finding> findings;
-  if (data.rows.empty()) return findings;
+  // The causes are read off tracker points against the arm's prediction. Rows of the other instruments
+  // (distances, contacts, partial points) each carry too little of a point to tell a cause, and are left
+  // to the fit; with fewer than a dozen points there is nothing to check.
+  std::vector<int> points;
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    if (data.rows[i].IsFullPoint()) points.push_back(static_cast<int>(i));
+  }
+  if (points.size() < 12) return findings;
   Dataset current = data;
   for (size_t i = 0; i < current.rows.size(); ++i) {  // rows made in memory: their index stands for the line
     if (current.rows[i].line <= 0) current.rows[i].line = static_cast<int>(i + 1);
   }
+  if (points.size() < current.rows.size()) current = current.SelectRows(points);
   for (int round = 0; round < options.rounds; ++round) {
     Finding f;
     Repair r;

@@ -70,6 +70,25 @@ TEST(Doctor, CleanDataGiveNoFinding) {
   }
 }
 
+// Distances to a pivot carry no point to read a cause from: the checks leave them to the fit, and still
+// find a cause in the point rows of the same file.
+TEST(Doctor, RowsOfOtherInstrumentsAreLeftToTheFit) {
+  Case s = Simulated(150, 15);
+  const Eigen::Vector3d pivot(0.7, 0.0, 0.3);
+  Dataset distances = s.data;
+  for (auto& m : distances.rows) {
+    m.distance = (m.p - pivot).norm();
+    m.p.setZero();
+    m.kind = MeasurementKind::kDistance;
+    m.fixture = "P1";
+  }
+  EXPECT_TRUE(doctor::Diagnose(s.nominal, distances).empty()) << Causes(doctor::Diagnose(s.nominal, distances));
+  Dataset mixed = s.data;
+  for (auto& m : mixed.rows) m.q *= M_PI / 180.0;
+  for (size_t i = 0; i < 40; ++i) mixed.rows[i] = distances.rows[i];
+  Only(doctor::Diagnose(s.nominal, mixed), "angle_unit");
+}
+
 TEST(Doctor, MetresUnderMillimetreHeadersAreALengthUnit) {
   Case s = Simulated(150, 4);
   for (auto& m : s.data.rows) m.p *= 1e-3;  // the file's numbers were metres, read as millimetres
