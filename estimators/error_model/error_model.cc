@@ -197,10 +197,11 @@ namespace {
 // against (beta_1 and the base's pitch by degrees, only the joints' gravity telling them apart). Held
 // back at its start value alone, it would leave them where they drifted, far from any fit of the rest: the
 // rebuilt problem may then hold them too (a tilted axis 1 makes Hayati's beta_1 redundant with the base),
-// and the fit ends many times worse than it started. So the free parameters follow the held ones back
-// along the valley: with N = J^T W J (+ the priors' information) at the solution, the quadratic model of
-// the cost with the held displacement d_H fixed is least at d_F = -N_FF^-1 N_FH d_H. Left as they are
-// where that solve fails (N_FF singular or the result not finite).
+// and the fit ends many times worse than it started. So the free parameters may follow the held ones back
+// along the valley (the estimator also tries the plain reset, and keeps the lower training cost): with
+// N = J^T W J (+ the priors' information) at the solution, the quadratic model of the cost with the held
+// displacement d_H fixed is least at d_F = -N_FF^-1 N_FH d_H. Left as they are where that solve fails
+// (N_FF singular or the result not finite).
 void FollowHeldAlongValley(const ErrorModelProblem& problem, const Eigen::MatrixXd& JtJ, const std::vector<int>& hold,
                            const Eigen::VectorXd& solution, Eigen::VectorXd* restart) {
   const int p = static_cast<int>(solution.size());
@@ -235,8 +236,8 @@ void FollowHeldAlongValley(const ErrorModelProblem& problem, const Eigen::Matrix
 
 }  // namespace
 
-bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
-                        Eigen::VectorXd* x) {
+bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, HoldRestart how,
+                        PreparedErrorModel* prep, Eigen::VectorXd* x) {
   *x = solution;
   const ErrorModelProblem& problem = *prep->problem;
   const NormalEquations ne =
@@ -253,7 +254,7 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
   if (hold.empty()) return false;
   Eigen::VectorXd restart = solution;
   for (int i : hold) restart[i] = problem.parameters()[i].prior_mean;  // held at the start value
-  FollowHeldAlongValley(problem, ne.JtJ, hold, solution, &restart);
+  if (how == HoldRestart::kFreeFollowValley) FollowHeldAlongValley(problem, ne.JtJ, hold, solution, &restart);
   for (int i : hold) {
     const std::string& name = problem.parameters()[i].name;
     std::string reason = "weakly identifiable, held at its start value (no prior): ";

@@ -67,13 +67,17 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
 void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
                PreparedErrorModel* prep, Eigen::VectorXd* x);
 
+// How the free parameters restart when weak ones are held: where the fit left them, or moved with the held
+// ones along the cost's valley (to where the quadratic model at the solution is least with the held ones
+// fixed).
+enum class HoldRestart { kFreeStay, kFreeFollowValley };
+
 // At a solution of prep->problem: finds the weakly identifiable parameters (prep->weak) and holds those
-// without a prior (prep->weak_held) at their start values, the free parameters moved with them along the
-// cost's valley (to where the quadratic model at the solution is least with the held ones fixed); when it
-// holds any, rebuilds prep there (RestartAt) and returns true: the estimator minimises again from *x.
-// Otherwise *x = solution.
-bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
-                        Eigen::VectorXd* x);
+// without a prior (prep->weak_held) at their start values, the free parameters restarting as `restart`
+// says; when it holds any, rebuilds prep there (RestartAt) and returns true: the estimator minimises again
+// from *x. Otherwise *x = solution.
+bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& weighting, HoldRestart restart,
+                        PreparedErrorModel* prep, Eigen::VectorXd* x);
 
 // At a point where the fit stopped without converging: adds to prep->weak the parameters the data
 // determine worse than their reference there (FindWeakParameters), held or not, so that none goes unnamed.

@@ -103,28 +103,60 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // Where a bounded solver ended on a bound, the bound decided those parameters, not the data: the weak
   // analysis and the restarts below (which re-centre relative parameters such as ratios) are skipped.
   const auto free_of_bounds = [](const MinimizerRun& r) { return r.parameters_at_bounds <= 0; };
-  if (converged(run) && free_of_bounds(run) && HoldWeakParameters(x, weighting, &prep, &x)) {
-    if (FinishIfNothingFree(prep, identified, report)) return;  // every parameter was weak
-    const Eigen::VectorXd restart = x;
-    run = run_from();
-    // The held parameters went back to their start values, their partners along the valley with them
-    // (HoldWeakParameters) to first order only: when what is left of the budget does not bring the fit
-    // back, it starts again from there with a budget of its own.
-    if (run.status == EstimationStatus::kIterationLimit) {
-      x = restart;
-      spent = 0;
+  // Holding weak parameters restarts the fit both ways (HoldWeakParameters): the held ones back at their
+  // start values with the free ones where they are, and the free ones moved with them along the cost's
+  // valley. Neither is better everywhere: following the valley brings back partners that drifted by degrees
+  // with a held angle, but where the cost is far from its quadratic model at the solution it can throw them
+  // into a worse basin. Each restart runs to its end and the one whose final data cost on the training
+  // rows is lower is kept (a tie keeps the plain reset); the iterations of both count. With `own_budget`
+  // each restart has a budget of its own; otherwise it has what is left, and one that uses it up starts
+  // again from its restart with a budget of its own (the valley is followed to first order only). False
+  // when nothing was held; *finished when every parameter was (the estimation is then finished).
+  const auto hold_and_restart = [&](bool own_budget, bool* finished) {
+    const PreparedErrorModel before = CopyOf(prep);
+    const Eigen::VectorXd solution = x;
+    const int spent_before = spent;
+    PreparedErrorModel kept_prep;
+    Eigen::VectorXd kept_x;
+    MinimizerRun kept_run;
+    int kept_spent = 0;
+    double kept_cost = NAN;
+    for (const HoldRestart how : {HoldRestart::kFreeStay, HoldRestart::kFreeFollowValley}) {
+      prep = CopyOf(before);
+      spent = own_budget ? 0 : spent_before;
+      if (!HoldWeakParameters(solution, weighting, how, &prep, &x)) return false;
+      if (FinishIfNothingFree(prep, identified, report)) return *finished = true;
+      const Eigen::VectorXd restart = x;
       run = run_from();
+      if (!own_budget && run.status == EstimationStatus::kIterationLimit) {
+        x = restart;
+        spent = 0;
+        run = run_from();
+      }
+      const double cost = DataCost(prep, x, weighting);
+      if (how == HoldRestart::kFreeStay || cost < kept_cost || std::isnan(kept_cost)) {
+        kept_prep = CopyOf(prep);
+        kept_x = x;
+        kept_run = run;
+        kept_spent = spent;
+        kept_cost = cost;
+      }
     }
-  }
+    prep = std::move(kept_prep);
+    x = kept_x;
+    run = kept_run;
+    spent = kept_spent;
+    return true;
+  };
+  bool finished = false;
+  if (converged(run) && free_of_bounds(run) && hold_and_restart(false, &finished) && finished) return;
   // A run that used its budget in a flat valley is at the bottom in every direction but its weak ones:
   // they are named as at a converged solution, those without a prior held, and the fit starts again from
   // there with a budget of its own (once: a second flat valley keeps its status).
   if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run) &&
-      InFlatValley(AccumulateNormalEquations(*prep.problem, x, weighting)) &&
-      HoldWeakParameters(x, weighting, &prep, &x)) {
-    if (FinishIfNothingFree(prep, identified, report)) return;
-    spent = 0;
-    run = run_from();
+      InFlatValley(AccumulateNormalEquations(*prep.problem, x, weighting)) && hold_and_restart(true, &finished) &&
+      finished) {
+    return;
   }
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
   if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {

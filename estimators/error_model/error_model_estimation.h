@@ -15,8 +15,10 @@
 //   3. converged: ReanalyzeIdentifiability at the solution and, when it frees or holds parameters, the
 //      Minimizer again from there with what is left of the budget;
 //   3b. converged: HoldWeakParameters (weak_parameters.h) names the weak parameters and holds those
-//      without a prior, and the Minimizer runs again; a run that ended at the iteration limit in a flat
-//      valley (InFlatValley, error_model.h) gets the same analysis, then a budget of its own;
+//      without a prior, and the Minimizer runs again from two restarts (the free parameters where they
+//      are, and moved along the cost's valley), the one with the lower training data cost kept; a run
+//      that ended at the iteration limit in a flat valley (InFlatValley, error_model.h) gets the same
+//      analysis, then a budget of its own;
 //   4. status, message and iterations (summed) from the runs; FinishErrorModel; details initial_cost_m2
 //      and loss; bounded solvers: parameters_at_bounds and a warning when any (ReportParametersAtBounds).
 // Each backend maps its own return codes to a MinimizerRun (converged, iteration limit, failed).
