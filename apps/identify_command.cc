@@ -227,14 +227,14 @@ void AddIdentifyCommand(CLI::App& app) {
                       a->data + ")");
     }
 
-    if (!a->no_check) {  // the doctor's findings, as warnings: the data are fitted as given
-      for (const auto& f : NamingFile(a->data, [&] { return doctor::Diagnose(nominal, train); })) {
-        std::cerr << "warning: " << doctor::FindingLine(f) << "\n";
-      }
-    }
+    // The doctor's findings, as warnings: the data are fitted as given. They are said once the fit has
+    // read the data, so that input it refuses gets its one line and nothing else.
+    std::vector<doctor::Finding> findings;
+    if (!a->no_check) findings = NamingFile(a->data, [&] { return doctor::Diagnose(nominal, train); });
     Robot identified;
     std::vector<EstimationReport> reports =
         NamingFile(a->data, [&] { return RunPipeline(methods, options, nominal, train, &identified); });
+    for (const auto& f : findings) std::cerr << "warning: " << doctor::FindingLine(f) << "\n";
     if (a->audit) {
       NamingFile(a->data, [&] { AuditSelection(methods, options, nominal, train, heldout, &reports.back()); });
     }
