@@ -311,17 +311,26 @@ Dataset ReadDataset(const std::string& path) { return ParseDatasetCsv(ReadFileTo
 
 namespace {
 
+// A file without rows still names the columns of one instrument, so that it reads back: the tracker's
+// where the file gave a length unit, else the socket's (a name needs no unit).
+bool WritesPointColumns(const Dataset& data) {
+  return data.HasKind(MeasurementKind::kPoint) || (data.rows.empty() && !data.length_unit.name.empty());
+}
+bool WritesFixedPointColumn(const Dataset& data) {
+  return data.HasKind(MeasurementKind::kFixedPoint) || (data.rows.empty() && data.length_unit.name.empty());
+}
+
 std::vector<std::string> Header(const Dataset& data) {
   std::vector<std::string> header;
   for (int i = 1; i <= data.dof; ++i) header.push_back("q" + std::to_string(i) + "_" + data.angle_unit.name);
-  if (data.HasKind(MeasurementKind::kPoint))
+  if (WritesPointColumns(data))
     for (const char* axis : {"x", "y", "z"}) header.push_back(std::string(axis) + "_" + data.length_unit.name);
   if (data.HasKind(MeasurementKind::kDistance)) {
     header.push_back("distance_" + data.length_unit.name);
     header.push_back("pivot");
   }
   if (data.HasKind(MeasurementKind::kPlane)) header.push_back("plane");
-  if (data.HasKind(MeasurementKind::kFixedPoint)) header.push_back("point");
+  if (WritesFixedPointColumn(data)) header.push_back("point");
   if (data.HasEncoders())
     for (int i = 1; i <= data.dof; ++i) header.push_back("enc" + std::to_string(i));
   if (data.HasOrientation())
@@ -338,7 +347,7 @@ std::vector<std::string> Header(const Dataset& data) {
 // The row's measurement cells: x, y, z, distance, pivot, plane, point as the header has them.
 void AddMeasurementCells(const Dataset& data, const Measurement& m, std::vector<std::string>* cells) {
   const bool point = m.kind == MeasurementKind::kPoint;
-  if (data.HasKind(MeasurementKind::kPoint)) {
+  if (WritesPointColumns(data)) {
     for (int k = 0; k < 3; ++k) cells->push_back(point && m.axes[k] ? FormatInUnit(m.p[k], data.length_unit) : "");
   }
   const auto named = [&](MeasurementKind kind) { return m.kind == kind ? m.fixture : std::string(); };
@@ -348,7 +357,7 @@ void AddMeasurementCells(const Dataset& data, const Measurement& m, std::vector<
     cells->push_back(named(MeasurementKind::kDistance));
   }
   if (data.HasKind(MeasurementKind::kPlane)) cells->push_back(named(MeasurementKind::kPlane));
-  if (data.HasKind(MeasurementKind::kFixedPoint)) cells->push_back(named(MeasurementKind::kFixedPoint));
+  if (WritesFixedPointColumn(data)) cells->push_back(named(MeasurementKind::kFixedPoint));
 }
 
 }  // namespace

@@ -18,16 +18,27 @@ std::string Upper(std::string s) {
   return s;
 }
 
-// Of the two Z-Y-X angle triples of R, the one nearer `near` (deg), each angle moved by whole turns to it.
+// The Z-Y-X angles (deg) of R for a given A: with M = Rz(-A) R = Ry(B) Rx(C), B and C follow from M alone, so
+// the triple is exact whatever A is, also where B = +-90 deg leaves A and C undetermined apart.
+Eigen::Vector3d AbcForA(const Eigen::Matrix3d& R, double a) {
+  const Eigen::Matrix3d M = Eigen::AngleAxisd(-a, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R;
+  return Eigen::Vector3d(a, std::atan2(-M(2, 0), M(0, 0)), std::atan2(-M(1, 2), M(1, 1))) / kDegree;
+}
+
+// Of the Z-Y-X angle triples of R (the two of its A and A + 180 deg, and at B = +-90 deg the one that keeps
+// `near`'s A), the one nearer `near` (deg), each angle moved by whole turns to it.
 Eigen::Vector3d AbcNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
-  const double b = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
-  const double a = std::atan2(R(1, 0), R(0, 0)), c = std::atan2(R(2, 1), R(2, 2));
-  const Eigen::Vector3d first(a / kDegree, b / kDegree, c / kDegree),
-      second(first[0] + 180, 180 - first[1], first[2] + 180);
+  const double a = std::atan2(R(1, 0), R(0, 0));
   Eigen::Vector3d best;
   double best_distance = INFINITY;
-  for (const Eigen::Vector3d& candidate : {first, second}) {
-    Eigen::Vector3d v = candidate;
+  for (const double a_k : {a, a + M_PI, near[0] * kDegree}) {
+    Eigen::Vector3d v = AbcForA(R, a_k);
+    // A triple stands only where it gives R back: near's A does only about B = +-90 deg.
+    const Eigen::Matrix3d back = (Eigen::AngleAxisd(v[0] * kDegree, Eigen::Vector3d::UnitZ()) *
+                                  Eigen::AngleAxisd(v[1] * kDegree, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(v[2] * kDegree, Eigen::Vector3d::UnitX()))
+                                     .toRotationMatrix();
+    if (a_k != a && a_k != a + M_PI && !((back - R).norm() <= 1e-12)) continue;
     for (int k = 0; k < 3; ++k) v[k] = near[k] + std::remainder(v[k] - near[k], 360.0);
     const double d = (v - near).squaredNorm();
     if (d < best_distance) {
@@ -113,7 +124,10 @@ class KrlFormat final : public ProgramFormat {
       while (i < close && (std::isalnum(static_cast<unsigned char>(t[i])) || t[i] == '_')) ++i;
       const std::string name = Upper(t.substr(name_begin, i - name_begin));
       if (name.empty()) ThrowAt(path, t, i, "expected a component name");
+      const size_t name_end = i;
       while (i < close && (t[i] == ' ' || t[i] == '\t')) ++i;
+      // KRL separates a name from its value by a space ("A3 90"): "A3+90" written back as "A390" would rename it.
+      if (i == name_end) ThrowAt(path, t, i, "expected a space between " + name + " and its value");
       NumberSpan s;
       s.begin = i;
       size_t stop = 0;
