@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
       "  x_mm,y_mm,z_mm (or _m)  measured position      qw,qx,qy,qz  measured orientation (optional)\n"
       "  optional: enc1..encN (encoder counts), sweep (joint swept, CPA), marker (reflector name),\n"
       "  session (instrument set-up), split (train|test), from_q1_deg..from_qN_deg (the pose before)\n"
+      "  other instruments: empty x/y/z cells (a partial point), distance_mm + pivot (a distance),\n"
+      "  plane (a contact), point (a socket); fixtures in the robot file (docs/instruments.md)\n"
       "Groups that an estimator's `fixed:` option holds (besides single parameter names):\n"
       "  base, tool, ratios, markers, sessions, joint_<i> (row i of the model), joint_errors,\n"
       "  gravity, harmonic, backlash, approach, or one type on one joint (gravity_2, approach_5)\n"
