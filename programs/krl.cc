@@ -134,7 +134,11 @@ class KrlFormat final : public ProgramFormat {
       if (i + 2 < close && t[i] == '\'' && (t[i + 1] == 'B' || t[i + 1] == 'b')) {
         size_t j = i + 2;
         long long value = 0;
-        while (j < close && (t[j] == '0' || t[j] == '1')) value = 2 * value + (t[j++] - '0');
+        while (j < close && (t[j] == '0' || t[j] == '1')) {
+          value = 2 * value + (t[j++] - '0');
+          // KRL's INT is 32 bits wide; a longer literal is no status or turn the controller accepts.
+          if (value > 0x7fffffffLL) ThrowAt(path, t, i, "binary literal beyond KRL's 32-bit INT");
+        }
         if (j >= close || t[j] != '\'' || j == i + 2) ThrowAt(path, t, i, "malformed binary literal");
         s.value = static_cast<double>(value);
         s.integer = s.binary = true;
