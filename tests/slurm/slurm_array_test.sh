@@ -138,9 +138,9 @@ datasets:
 estimators: [least_squares]
 compensators: [jacobian]
 validation:
-  - {name: targets, random_targets: 12000}
+  - {name: targets, random_targets: 6000}
 STUDY
-"$kincal" study "$tmp/study.yaml" --out "$tmp/local" --threads 1 > "$tmp/local.out" 2>&1 || fail "local run"
+"$kincal" study "$tmp/study.yaml" --out "$tmp/local" --threads "$cpus" > "$tmp/local.out" 2>&1 || fail "local run"
 
 out="$tmp/out"
 submitted=$(cd "$tmp" && KINCAL="$kincal" "$source_dir/examples/slurm/submit.sh" "$tmp/study.yaml" "$out" 3 2>&1) ||
