@@ -336,12 +336,14 @@ TEST(ModelSelectionRealData, FanucSelected) {
   std::printf("fanuc_boby2021: selected %s, held-out RMS %.4f mm, max %.4f mm (geometry %.4f / %.4f); coverage %.4f\n",
               selected.chosen.c_str(), selected.rms * 1e3, selected.max * 1e3, plain.rms * 1e3, plain.max * 1e3,
               selected.coverage);
-  EXPECT_EQ(selected.chosen, "+ gravity 2");
+  // The paired rule keeps geometry here (docs/fit_checks.md: one fold of five; the previous rule chose
+  // + gravity 2, 0.274 mm held out).
+  EXPECT_EQ(selected.chosen, "geometry");
   EXPECT_NEAR(selected.coverage, 1.0, 1e-9);  // 51 of 54 with the parameters' part alone
   EXPECT_NEAR(selected.coverage_param, 51.0 / 54.0, 1e-9);
   EXPECT_GE(selected.coverage, 0.95);
-  EXPECT_NEAR(selected.rms * 1e3, 0.2742, 0.002);
-  EXPECT_NEAR(selected.max * 1e3, 0.8742, 0.01);
+  EXPECT_NEAR(selected.rms * 1e3, 0.5155, 0.002);
+  EXPECT_NEAR(selected.max * 1e3, 1.9314, 0.01);
   EXPECT_LT(selected.rms, plain.rms);
   EXPECT_LE(selected.max, 1.5 * plain.max);
 }
