@@ -162,8 +162,9 @@ void AuditSelection(const std::vector<std::string>& methods, const std::vector<Y
     const std::vector<std::string> before(methods.begin(), methods.end() - 1);
     RunPipeline(before, options, nominal, train, &start);
   }
-  const auto estimator = Estimators().Create(methods.back(), AuditFitOptions(options.back()));
-  AddAuditToSelection(AuditCandidates(*estimator, start, nominal, train, heldout), &last->details["selection"]);
+  const auto create = [&](const YAML::Node& o) { return Estimators().Create(methods.back(), o); };
+  AddAuditToSelection(AuditCandidates(create, AuditFitOptions(options.back()), start, nominal, train, heldout),
+                      &last->details["selection"]);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "estimators/error_model/covariance.h"
 #include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/error_model/prior_factor.h"
 #include "estimators/selection/model_selection.h"
 
 namespace kincal {
@@ -35,6 +36,10 @@ struct TestSums {
 struct FoldSums {
   Eigen::MatrixXd A;
   Eigen::VectorXd b;
+  // The same with the priors' terms (the problem's PriorFactors; equal to A, b without priors): the
+  // candidates' steps solve these, as the estimator's maximum a posteriori fit does.
+  Eigen::MatrixXd A_map;
+  Eigen::VectorXd b_map;
   double c = 0.0;     // sum w |r|^2 of the training rows (the sigma^2 of normal_equations.h's irls_squares)
   int residuals = 0;  // of the training rows with a positive weight
   std::map<int, TestSums> test;
@@ -100,15 +105,22 @@ FoldSums AccumulateFold(const ErrorModelProblem& problem, const RowWeighting& we
       AddTrainingRow(weighting, i, J, r, &s);
     }
   }
+  s.A_map = s.A;
+  s.b_map = s.b;
+  for (const PriorFactor& f : PriorFactors(problem)) {
+    const double w = f.scale * f.scale;
+    s.A_map(f.index, f.index) += w;
+    s.b_map[f.index] += w * (x[f.index] - f.mean);
+  }
   return s;
 }
 
-// dx over `columns` (zero elsewhere) solving A dx = -b there: pseudo-inverse of the scaled matrix.
+// dx over `columns` (zero elsewhere) solving A_map dx = -b_map there: pseudo-inverse of the scaled matrix.
 Eigen::VectorXd GaussNewtonStep(const FoldSums& s, const std::vector<int>& columns) {
   const int q = static_cast<int>(columns.size());
-  const Eigen::MatrixXd P = ScaledPseudoInverse(s.A, columns);
+  const Eigen::MatrixXd P = ScaledPseudoInverse(s.A_map, columns);
   Eigen::VectorXd g(q);
-  for (int a = 0; a < q; ++a) g[a] = s.b[columns[a]];
+  for (int a = 0; a < q; ++a) g[a] = s.b_map[columns[a]];
   const Eigen::VectorXd y = -(P * g);
   Eigen::VectorXd dx = Eigen::VectorXd::Zero(s.A.rows());
   for (int a = 0; a < q; ++a) dx[columns[a]] = y[a];
@@ -117,18 +129,17 @@ Eigen::VectorXd GaussNewtonStep(const FoldSums& s, const std::vector<int>& colum
 
 // prediction_uncertainty.h (3), one fold and candidate: per held-out row, |e|^2 after the step dx (the
 // linearised prediction the candidate's CV RMS is made of) and its expectation under the bound,
-// 3 sigma_k^2 + sd_k^2, with sigma_k from the training rows' sums at dx and C_k = sigma_k^2 A^+ over
-// `columns`: the covariance of that same step, the data's normal equations only. Not the priors of a
-// maximum a posteriori fit: with them, C_k would belong to another estimate than the one e comes from
-// (measured: ur10_ipa2021 series D, rows beyond the fold's joint-4 range predicted 0.1 m off by the step
-// with an sd of 7 mm from the priors, tau 45 mm); a MAP step instead of the CV's own would score another
-// prediction than the selection does.
+// 3 sigma_k^2 + sd_k^2, with sigma_k from the training rows' data sums at dx and C_k = sigma_k^2 A_map^+
+// over `columns`: the covariance of that same step (the posterior's where the fit has priors). Data-only
+// covariances beside a prior-held step, or the reverse, belong to another estimate than e's (measured:
+// ur10_ipa2021 series D, a data-only step beside priors' sd predicted rows beyond the fold's joint-4
+// range 0.1 m off with an sd of 7 mm, tau 45 mm).
 void FoldExcess(const FoldSums& s, const std::vector<int>& columns, const Eigen::VectorXd& dx,
                 InadequacySample* out) {
   const int q = static_cast<int>(columns.size());
   if (s.residuals <= q) return;
   const double sigma2 = std::max(s.c + 2.0 * dx.dot(s.b) + dx.dot(s.A * dx), 0.0) / (s.residuals - q);
-  const Eigen::MatrixXd C = sigma2 * ScaledPseudoInverse(s.A, columns);
+  const Eigen::MatrixXd C = sigma2 * ScaledPseudoInverse(s.A_map, columns);
   Eigen::MatrixXd Jc(3, q);
   for (const auto& [session, t] : s.test) {
     for (size_t i = 0; i < t.J.size(); ++i) {
@@ -153,6 +164,24 @@ std::vector<int> ColumnTerms(const ErrorModelProblem& problem) {
   return out;
 }
 
+// Per problem column: whether the fold's own fit held that parameter (its identifiability analysis or weak
+// hold: what the fold's rows cannot fix); the candidates' steps hold it too.
+std::vector<bool> FoldHeld(const ErrorModelProblem& problem, const EstimationReport& fold_report) {
+  std::set<std::string> names;
+  if (fold_report.details.contains("held_parameters")) {
+    for (const auto& h : fold_report.details.at("held_parameters")) names.insert(h.value("name", std::string()));
+  }
+  std::vector<bool> out;
+  for (const auto& p : problem.parameters()) out.push_back(names.count(p.name) > 0);
+  return out;
+}
+
+// The noise that weighed the fold's priors (m; 0 without priors): its fit's, so that the candidates' steps
+// weigh data and priors as that fit did.
+double FoldPriorNoise(const EstimationReport& fold_report) {
+  const nlohmann::json& d = fold_report.details;
+  return d.contains("prior_noise_m") && d.at("prior_noise_m").is_number() ? d.at("prior_noise_m").get<double>() : 0.0;
+}
 
 // Blocked K-fold CV of `candidates` (column sets of `start`'s problem): per fold, `fold_start` fitted on the
 // other blocks, then each candidate one Gauss-Newton step from there (model_selection.h; `step` false: the
@@ -161,7 +190,7 @@ std::vector<int> ColumnTerms(const ErrorModelProblem& problem) {
 // under the candidate's covariance, 3 q^2 per row, which for all 23 candidates of ur10_ipa2021 series A
 // took longer than the selection itself). Scores with fold_rms, cv_rms, se; the chosen one with inadequacy
 // and inadequacy_beyond; returns the chosen index.
-using Choice = std::function<int(const std::vector<CandidateScore>&)>;
+using Choice = std::function<int(std::vector<CandidateScore>*)>;
 int CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions& fit_options, int budget,
                   const ErrorModelMinimizer& minimize, const Robot& fold_start, const Robot& start,
                   const Robot& controller, const Dataset& data, const std::vector<SelectionCandidate>& candidates,
@@ -176,6 +205,8 @@ int CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions
   std::vector<FoldSums> fold_sums;
   std::vector<std::vector<std::vector<int>>> fold_columns;
   std::vector<std::vector<Eigen::VectorXd>> fold_steps;
+  // The priors' means: the start's values, as in the estimator's fit (the folds' problems start elsewhere).
+  const ErrorModelProblem reference(start, controller, data, fit_options.error_model);
   for (int k = 0; k < K; ++k) {
     std::vector<int> train_rows;
     std::set<int> sessions;
@@ -196,17 +227,22 @@ int CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions
     EstimateErrorModel(estimator, fold_options, budget, minimize, fold_start, controller, train, &fitted, &fold_report);
     Robot point = fitted;  // the fold's fit with every term of `start` (at its start value where not fitted)
     if (fitted.joint_errors.terms.size() != start.joint_errors.terms.size()) point.joint_errors = start.joint_errors;
-    const ErrorModelProblem problem(point, controller, data, fit_options.error_model);
+    ErrorModelProblem problem(point, controller, data, fit_options.error_model);
+    problem.InheritPriors(reference);
+    problem.set_prior_noise(FoldPriorNoise(fold_report));
     fold_sums.push_back(AccumulateFold(problem, weighting, fold, k, sessions));
     fold_columns.emplace_back();
     fold_steps.emplace_back();
     const FoldSums& sums = fold_sums.back();
     const std::vector<int> column_term = ColumnTerms(problem);
+    const std::vector<bool> held = FoldHeld(problem, fold_report);
     for (size_t c = 0; c < candidates.size(); ++c) {
       std::vector<int> columns;
       const std::set<int> terms(candidates[c].terms.begin(), candidates[c].terms.end());
+      const std::set<std::string> held_terms(candidates[c].held.begin(), candidates[c].held.end());
       for (size_t j = 0; j < column_term.size(); ++j) {
-        if (column_term[j] < 0 || terms.count(column_term[j])) columns.push_back(static_cast<int>(j));
+        const bool in = column_term[j] < 0 || (terms.count(column_term[j]) && !held_terms.count(problem.parameters()[j].name));
+        if (in && !held[j]) columns.push_back(static_cast<int>(j));
       }
       const Eigen::VectorXd dx = step ? GaussNewtonStep(sums, columns) : Eigen::VectorXd::Zero(sums.A.rows());
       double rms = 0.0;  // sessions weigh alike (model_selection.h)
@@ -224,7 +260,7 @@ int CrossValidate(const std::string& estimator, const ErrorModelEstimatorOptions
     s.cv_rms = mean;
     s.se = std::sqrt(var / K);
   }
-  const int chosen = choose(scores);
+  const int chosen = choose(&scores);
   InadequacySample sample;
   for (int k = 0; k < K; ++k) FoldExcess(fold_sums[k], fold_columns[k][chosen], fold_steps[k][chosen], &sample);
   scores[chosen].chosen = true;
@@ -256,9 +292,12 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
   const std::vector<SelectionCandidate> candidates = NestedCandidates(start);
   std::vector<CandidateScore> scores;
   const int chosen = CrossValidate(estimator, fit_options, budget, minimize, CandidateRobot(start, candidates[0]),
-                                   start, controller, data, candidates, true, OneStandardErrorChoice, &scores);
+                                   start, controller, data, candidates, true, PairedStandardErrorChoice, &scores);
 
-  EstimateErrorModel(estimator, fit_options, budget, minimize, CandidateRobot(start, candidates[chosen]), controller,
+  ErrorModelEstimatorOptions chosen_options = fit_options;
+  auto& fixed = chosen_options.error_model.fixed;
+  fixed.insert(fixed.end(), candidates[chosen].held.begin(), candidates[chosen].held.end());
+  EstimateErrorModel(estimator, chosen_options, budget, minimize, CandidateRobot(start, candidates[chosen]), controller,
                      data, identified, report);
   report->details["selection"] = SelectionToJson(scores, K);
   report->message += "; selected model: " + candidates[chosen].name;
@@ -276,7 +315,7 @@ void CrossValidateErrorModel(const std::string& estimator, const ErrorModelEstim
   for (size_t t = 0; t < start.joint_errors.terms.size(); ++t) whole.terms.push_back(static_cast<int>(t));
   std::vector<CandidateScore> scores;
   CrossValidate(estimator, fit_options, budget, minimize, start, start, controller, data, {whole}, false,
-                [](const std::vector<CandidateScore>&) { return 0; }, &scores);
+                [](std::vector<CandidateScore>*) { return 0; }, &scores);
   nlohmann::json cv = SelectionToJson(scores, options.selection.folds);
   cv["rule"] = "the fitted model alone (cross_validate: true)";
   report->details["cross_validation"] = cv;

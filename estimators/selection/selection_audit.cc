@@ -17,12 +17,25 @@ YAML::Node AuditFitOptions(const YAML::Node& options) {
   return out;
 }
 
-std::vector<CandidateHeldOut> AuditCandidates(const Estimator& estimator, const Robot& start, const Robot& controller,
-                                              const Dataset& train, const Dataset& heldout) {
+YAML::Node CandidateFitOptions(const YAML::Node& options, const SelectionCandidate& candidate) {
+  YAML::Node out = YAML::Clone(options);
+  if (candidate.held.empty()) return out;
+  YAML::Node fixed(YAML::NodeType::Sequence);
+  if (out["fixed"] && out["fixed"].IsSequence()) fixed = out["fixed"];
+  else if (out["fixed"] && out["fixed"].IsScalar()) fixed.push_back(out["fixed"].as<std::string>());
+  for (const std::string& name : candidate.held) fixed.push_back(name);
+  out["fixed"] = fixed;
+  return out;
+}
+
+std::vector<CandidateHeldOut> AuditCandidates(const EstimatorFactory& create, const YAML::Node& options,
+                                              const Robot& start, const Robot& controller, const Dataset& train,
+                                              const Dataset& heldout) {
   std::vector<CandidateHeldOut> out;
   for (const SelectionCandidate& candidate : NestedCandidates(start)) {
     Robot fitted;
-    const EstimationReport report = estimator.Estimate(CandidateRobot(start, candidate), controller, train, &fitted);
+    const std::unique_ptr<Estimator> estimator = create(CandidateFitOptions(options, candidate));
+    const EstimationReport report = estimator->Estimate(CandidateRobot(start, candidate), controller, train, &fitted);
     const ErrorStats e = EvaluatePredictions(controller, fitted, heldout).position_stats;
     CandidateHeldOut c;
     c.candidate = candidate.name;

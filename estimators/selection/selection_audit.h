@@ -11,6 +11,8 @@
 // stage's start robot with only the candidate's terms (CandidateRobot), on all training rows. The
 // candidate selection chose therefore scores what identify's own result scores. Deterministic: the fits
 // are, and the candidates run in order.
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "estimators/estimator.h"
+#include "estimators/selection/model_selection.h"
 #include "framework/dataset.h"
 #include "robot/robot.h"
 
@@ -36,12 +39,19 @@ struct CandidateHeldOut {
   double max = NAN;  // m
 };
 
-// Fits every nested candidate of `start` on `train` with `estimator` (created from AuditFitOptions) and
-// `controller` (the robot that commanded the data, identify's nominal), in NestedCandidates' order, and
-// scores each fit's position predictions of `heldout` (EvaluatePredictions). Throws what the estimator
-// throws for bad input.
-std::vector<CandidateHeldOut> AuditCandidates(const Estimator& estimator, const Robot& start, const Robot& controller,
-                                              const Dataset& train, const Dataset& heldout);
+// `options` with the candidate's held coefficients added to `fixed` (a compliance candidate's).
+YAML::Node CandidateFitOptions(const YAML::Node& options, const SelectionCandidate& candidate);
+
+// The selecting stage's estimator made from options (the registry's Create for its name).
+using EstimatorFactory = std::function<std::unique_ptr<Estimator>(const YAML::Node& options)>;
+
+// Fits every nested candidate of `start` on `train` with the estimator `create` makes from
+// CandidateFitOptions of `options` (itself from AuditFitOptions) and `controller` (the robot that
+// commanded the data, identify's nominal), in NestedCandidates' order, and scores each fit's position
+// predictions of `heldout` (EvaluatePredictions). Throws what the estimator throws for bad input.
+std::vector<CandidateHeldOut> AuditCandidates(const EstimatorFactory& create, const YAML::Node& options,
+                                              const Robot& start, const Robot& controller, const Dataset& train,
+                                              const Dataset& heldout);
 
 // Adds to every candidate of `selection` (details.selection, SelectionToJson) held_out_rms_mm,
 // held_out_max_mm and held_out_status, and to the table `audit`: held-out rows and the summary line

@@ -2,7 +2,10 @@
 // the blocked folds, the one-standard-error rule, and on simulated data the choice between a model the
 // data need and one they do not.
 #include <algorithm>
+#include <cmath>
 #include <random>
+#include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -14,19 +17,35 @@
 namespace kincal::testing {
 namespace {
 
-TEST(NestedCandidates, GeometryThenTypeThenJointEachAddingOneGroup) {
+// The coefficients a candidate frees: its terms' names less the ones it holds.
+std::set<std::string> FreeCoefficients(const Robot& robot, const SelectionCandidate& c) {
+  std::set<std::string> out;
+  const Robot r = CandidateRobot(robot, c);
+  for (const std::string& name : r.joint_errors.CoefficientNames()) {
+    if (std::find(c.held.begin(), c.held.end(), name) == c.held.end()) out.insert(name);
+  }
+  return out;
+}
+
+TEST(NestedCandidates, GeometryThenCompliancesThenTypeThenJointEachAddingOneGroup) {
   const Robot robot = LoadExampleRobot("irb120_joint_errors.yaml");  // gravity 2-5, approach 1-6
   const std::vector<SelectionCandidate> c = NestedCandidates(robot);
-  ASSERT_EQ(c.size(), 11u);
+  ASSERT_EQ(c.size(), 15u);
   EXPECT_EQ(c[0].name, "geometry");
   EXPECT_TRUE(c[0].terms.empty());
-  EXPECT_EQ(c[1].name, "+ gravity 2");
-  EXPECT_EQ(c[4].name, "+ gravity 5");
-  EXPECT_EQ(c[5].name, "+ approach 1");
-  EXPECT_EQ(c[10].name, "+ approach 6");
-  for (size_t i = 1; i < c.size(); ++i) {
-    EXPECT_EQ(c[i].terms.size(), c[i - 1].terms.size() + 1);
-    for (int t : c[i - 1].terms) EXPECT_NE(std::find(c[i].terms.begin(), c[i].terms.end(), t), c[i].terms.end());
+  EXPECT_EQ(c[1].name, "+ compliance 2");
+  EXPECT_EQ(FreeCoefficients(robot, c[1]), std::set<std::string>{"gravity_2_link6"});
+  EXPECT_EQ(c[4].name, "+ compliance 5");
+  EXPECT_EQ(FreeCoefficients(robot, c[4]).size(), 4u);  // one per joint
+  EXPECT_EQ(c[5].name, "+ gravity 2");
+  EXPECT_EQ(c[8].name, "+ gravity 5");
+  EXPECT_TRUE(c[8].held.empty());
+  EXPECT_EQ(c[9].name, "+ approach 1");
+  EXPECT_EQ(c[14].name, "+ approach 6");
+  for (size_t i = 1; i < c.size(); ++i) {  // nested: each frees what the one before does, and more
+    const std::set<std::string> before = FreeCoefficients(robot, c[i - 1]), now = FreeCoefficients(robot, c[i]);
+    EXPECT_GT(now.size(), before.size()) << c[i].name;
+    for (const auto& name : before) EXPECT_TRUE(now.count(name)) << c[i].name << " " << name;
   }
   EXPECT_EQ(CandidateRobot(robot, c.back()).joint_errors.terms.size(), robot.joint_errors.terms.size());
   EXPECT_TRUE(CandidateRobot(robot, c[0]).joint_errors.empty());
@@ -65,6 +84,32 @@ TEST(OneStandardErrorChoice, SimplestWithinOneSeOfTheBest) {
   s[0].cv_rms = NAN;
   s[1].cv_rms = 0.69;
   EXPECT_EQ(OneStandardErrorChoice(s), 1);
+}
+
+// Every fold is harder or easier for all candidates alike: the paired rule sees a consistent excess
+// that each candidate's own se (over 0.6 here) hides.
+TEST(PairedStandardErrorChoice, SimplestWhoseFoldWiseExcessIsWithinItsSe) {
+  std::vector<CandidateScore> s(3);
+  const std::vector<double> best = {1.0, 2.0, 3.0, 4.0, 5.0};
+  for (size_t k = 0; k < best.size(); ++k) {
+    s[0].fold_rms.push_back(best[k] + 0.1);                   // always 0.1 worse
+    s[1].fold_rms.push_back(best[k] + (k % 2 ? -0.02 : 0.02));  // 0.004 worse on average, noisily
+    s[2].fold_rms.push_back(best[k]);
+  }
+  for (auto& c : s) {
+    double mean = 0.0;
+    for (double r : c.fold_rms) mean += r / 5;
+    c.cv_rms = mean;
+    c.se = 0.7;
+  }
+  EXPECT_EQ(OneStandardErrorChoice(s), 0);  // every candidate's se swamps the differences
+  EXPECT_EQ(PairedStandardErrorChoice(&s), 1);
+  EXPECT_NEAR(s[0].excess_se, 0.0, 1e-12);
+  // var of (0.02, -0.02, 0.02, -0.02, 0.02) = 4.8e-4; times 1/5 + 1/4
+  EXPECT_NEAR(s[1].excess_se, std::sqrt(4.8e-4 * 0.45), 1e-12);
+  for (double& r : s[1].fold_rms) r += 0.1;  // now 0.104 worse, se 0.015: only the best is left
+  s[1].cv_rms += 0.1;
+  EXPECT_EQ(PairedStandardErrorChoice(&s), 2);
 }
 
 // Simulated IRB 120-like arm: the truth has gravity compliance of joint 2 (or none); the robot file
