@@ -353,7 +353,7 @@ void SelectionTables(std::ostream& o, const ReportData& data, int variant) {
     const std::string group = t.Text(r, c_est) + ", trial " + t.Text(r, c_trial);
     if (group != current) {
       if (current.empty())
-        o << "### Model selection (blocked cross-validation, one-standard-error rule)\n\n";
+        o << "### Model selection (blocked cross-validation, paired one-standard-error rule)\n\n";
       else
         o << "\n";
       current = group;
