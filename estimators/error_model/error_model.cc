@@ -109,6 +109,22 @@ PreparedErrorModel RebuiltAt(const Eigen::VectorXd& solution, const RowWeighting
 
 }  // namespace
 
+NormalEquations NormalEquationsAt(const PreparedErrorModel& prep, const Eigen::VectorXd& x,
+                                  const RowWeighting& weighting, Accumulate what, bool with_prior) {
+  const PreparedErrorModel::Evaluated* e = prep.evaluated.get();
+  if (e && e->x.size() == x.size() && e->x == x && e->weights == weighting.weights &&
+      e->loss.type == weighting.loss.type && e->loss.scale == weighting.loss.scale) {
+    return with_prior ? e->ne : WithoutPriors(e->ne);
+  }
+  return AccumulateNormalEquations(*prep.problem, x, weighting, what, with_prior);
+}
+
+void KeepNormalEquations(const Eigen::VectorXd& x, const RowWeighting& weighting, NormalEquations ne,
+                         PreparedErrorModel* prep) {
+  prep->evaluated = std::make_shared<const PreparedErrorModel::Evaluated>(
+      PreparedErrorModel::Evaluated{x, weighting.weights, weighting.loss, std::move(ne)});
+}
+
 PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,
                                      const ErrorModelOptions& options, const RowWeighting& weighting) {
   PreparedErrorModel prep;
@@ -240,8 +256,7 @@ bool HoldWeakParameters(const Eigen::VectorXd& solution, const RowWeighting& wei
                         PreparedErrorModel* prep, Eigen::VectorXd* x) {
   *x = solution;
   const ErrorModelProblem& problem = *prep->problem;
-  const NormalEquations ne =
-      AccumulateNormalEquations(problem, solution, weighting, Accumulate::kNormalEquations, false);
+  const NormalEquations ne = NormalEquationsAt(*prep, solution, weighting, Accumulate::kNormalEquations, false);
   const double sigma = DataSigma(ne, problem.num_parameters());
   if (!(sigma > 0.0)) return false;
   std::vector<WeakParameter> weak;
@@ -282,7 +297,7 @@ double PredictedDecrease(const NormalEquations& ne) {
 
 void NameWeakParameters(const Eigen::VectorXd& x, const RowWeighting& weighting, PreparedErrorModel* prep) {
   const ErrorModelProblem& problem = *prep->problem;
-  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting, Accumulate::kNormalEquations, false);
+  const NormalEquations ne = NormalEquationsAt(*prep, x, weighting, Accumulate::kNormalEquations, false);
   const double sigma = DataSigma(ne, problem.num_parameters());
   if (!(sigma > 0.0)) return;
   for (const WeakParameter& w : FindWeakParameters(problem, ne.JtJ, sigma)) {
@@ -322,7 +337,7 @@ Covariance ComputeCovariance(const NormalEquations& ne, int p) {
 
 void FinishErrorModel(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const RowWeighting& weighting,
                       Robot* identified, EstimationReport* report) {
-  FinishErrorModel(prep, x, AccumulateNormalEquations(*prep.problem, x, weighting), identified, report);
+  FinishErrorModel(prep, x, NormalEquationsAt(prep, x, weighting), identified, report);
 }
 
 namespace {

@@ -48,7 +48,26 @@ struct PreparedErrorModel {
   // held because they have no prior (name, reason), kept when the problem is rebuilt.
   std::vector<WeakParameter> weak;
   std::vector<std::pair<std::string, std::string>> weak_held;
+  // The normal equations of `problem` (with its priors) at one x and weighting, where a minimiser left
+  // them: the analyses at that point read them (NormalEquationsAt) instead of passing over the data again.
+  // Shared by copies; a rebuilt prep starts without.
+  struct Evaluated {
+    Eigen::VectorXd x;
+    std::vector<double> weights;
+    RobustLoss loss;
+    NormalEquations ne;
+  };
+  std::shared_ptr<const Evaluated> evaluated;
 };
+
+// AccumulateNormalEquations(*prep.problem, x, weighting, what, with_prior), or the same to the bit from
+// prep.evaluated when it holds that x and weighting (then with J^T r and J^T J whatever `what` asks).
+NormalEquations NormalEquationsAt(const PreparedErrorModel& prep, const Eigen::VectorXd& x,
+                                  const RowWeighting& weighting, Accumulate what = Accumulate::kNormalEquations,
+                                  bool with_prior = true);
+// Keeps `ne` (AccumulateNormalEquations(*prep->problem, x, weighting) with the priors) in prep->evaluated.
+void KeepNormalEquations(const Eigen::VectorXd& x, const RowWeighting& weighting, NormalEquations ne,
+                         PreparedErrorModel* prep);
 
 // Throws std::invalid_argument for bad input (ErrorModelProblem's conditions).
 PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller, const Dataset& data,

@@ -384,6 +384,9 @@ void ErrorModelProblem::MeasureRegressors() {
   }
   if (!index.empty()) {
     auto ws = NewWorkspace();
+    const JointErrorContext context = ContextOf(*ws);
+    const PreparedRegressors prepared(measured, *ws->model);
+    PreparedRegressors::Row regressors;
     const int n = start_.dof();
     for (int row = 0; row < num_rows(); ++row) {
       const Eigen::Map<const Eigen::VectorXd> qbar(&rows_->q_ref[static_cast<size_t>(row) * n], n);
@@ -391,8 +394,8 @@ void ErrorModelProblem::MeasureRegressors() {
       if (!rows_->has_previous.empty() && rows_->has_previous[row]) {
         previous = Eigen::Map<const Eigen::VectorXd>(&rows_->q_prev_ref[static_cast<size_t>(row) * n], n);
       }
-      const Eigen::VectorXd phi =
-          EvaluateRegressors(measured, ContextOf(*ws), qbar, previous.size() ? &previous : nullptr);
+      prepared.Evaluate(context, qbar, previous.size() ? &previous : nullptr, {}, &regressors);
+      const Eigen::VectorXd& phi = regressors.phi;
       for (size_t a = 0; a < index.size(); ++a)
         sum2[index[a]] += phi[static_cast<Eigen::Index>(a)] * phi[static_cast<Eigen::Index>(a)];
     }

@@ -25,15 +25,14 @@ bool ErrorModelEstimatorOptions::IsValid(std::string* why) const { return Table(
 namespace {
 
 // The fit's own noise per residual at x, the data alone.
-double SigmaAt(const ErrorModelProblem& problem, const Eigen::VectorXd& x, const RowWeighting& weighting) {
-  return DataSigma(AccumulateNormalEquations(problem, x, weighting, Accumulate::kCost, false),
-                   problem.num_parameters());
+double SigmaAt(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const RowWeighting& weighting) {
+  return DataSigma(NormalEquationsAt(prep, x, weighting, Accumulate::kCost, false), prep.problem->num_parameters());
 }
 
 // The data's own cost at x (no prior terms): a fit from its start may never end above it. With priors the
 // start sits at the prior means, so the posterior's minimum has a data cost no higher than the start's.
 double DataCost(const PreparedErrorModel& prep, const Eigen::VectorXd& x, const RowWeighting& weighting) {
-  return AccumulateNormalEquations(*prep.problem, x, weighting, Accumulate::kCost, false).cost;
+  return NormalEquationsAt(prep, x, weighting, Accumulate::kCost, false).cost;
 }
 
 PreparedErrorModel CopyOf(const PreparedErrorModel& p) {
@@ -49,6 +48,7 @@ PreparedErrorModel CopyOf(const PreparedErrorModel& p) {
   c.placement_notes = p.placement_notes;
   c.weak = p.weak;
   c.weak_held = p.weak_held;
+  c.evaluated = p.evaluated;
   return c;
 }
 
@@ -83,13 +83,14 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   int runs = 0;
   const auto run_from = [&]() {
     MinimizerRun run = minimize(prep, weighting, std::max(0, budget - spent), &x);
+    if (run.normal_equations) KeepNormalEquations(x, weighting, *run.normal_equations, &prep);
     iterations += run.iterations;
     spent += run.iterations;
     ++runs;
     const double cost = DataCost(prep, x, weighting);
     if (cost < best.cost) best = {CopyOf(prep), x, cost, "the end of run " + std::to_string(runs)};
     if (run.status == EstimationStatus::kIterationLimit) {
-      const NormalEquations ne = AccumulateNormalEquations(*prep.problem, x, weighting);
+      const NormalEquations ne = NormalEquationsAt(prep, x, weighting);
       if (WithinNoiseOfMinimum(ne, DataSigma(ne, prep.problem->num_parameters()))) {
         run.status = EstimationStatus::kConverged;
         run.message += "; converged all the same: the remaining step is below 0.1 standard deviations";
@@ -113,6 +114,8 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // again from its restart with a budget of its own (the valley is followed to first order only). False
   // when nothing was held; *finished when every parameter was (the estimation is then finished).
   const auto hold_and_restart = [&](bool own_budget, bool* finished) {
+    // Both restarts analyse the same solution: its normal equations are computed once.
+    KeepNormalEquations(x, weighting, NormalEquationsAt(prep, x, weighting), &prep);
     const PreparedErrorModel before = CopyOf(prep);
     const Eigen::VectorXd solution = x;
     const int spent_before = spent;
@@ -154,14 +157,14 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // they are named as at a converged solution, those without a prior held, and the fit starts again from
   // there with a budget of its own (once: a second flat valley keeps its status).
   if (run.status == EstimationStatus::kIterationLimit && free_of_bounds(run) &&
-      InFlatValley(AccumulateNormalEquations(*prep.problem, x, weighting)) && hold_and_restart(true, &finished) &&
+      InFlatValley(NormalEquationsAt(prep, x, weighting)) && hold_and_restart(true, &finished) &&
       finished) {
     return;
   }
   // Priors weighed by the fit's own noise: repeat until the noise settles (0.1 %).
   if (converged(run) && free_of_bounds(run) && prep.problem->has_priors() && !(options.error_model.prior.noise > 0.0)) {
     for (int pass = 0; pass < 8; ++pass) {
-      const double sigma = SigmaAt(*prep.problem, x, weighting);
+      const double sigma = SigmaAt(prep, x, weighting);
       const double noise = prep.problem->prior_noise();
       if (!(sigma > 0.0) || std::abs(sigma - noise) <= 1e-3 * noise) break;
       RestartAt(x, weighting, sigma, &prep, &x);

@@ -23,6 +23,7 @@
 //      and loss; bounded solvers: parameters_at_bounds and a warning when any (ReportParametersAtBounds).
 // Each backend maps its own return codes to a MinimizerRun (converged, iteration limit, failed).
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "estimators/error_model/error_model.h"
@@ -48,6 +49,9 @@ struct MinimizerRun {
   int iterations = 0;             // in the unit the budget counts (iterations or evaluations)
   int parameters_at_bounds = -1;  // bounded solvers: how many ended on a bound; -1 for unbounded ones
   nlohmann::json details;         // backend details of this run (the last run's are reported)
+  // AccumulateNormalEquations(*prep.problem, *x, weighting) where the run ended, when the backend has
+  // them from a pass at that very x (null otherwise): the analyses there read them.
+  std::shared_ptr<const NormalEquations> normal_equations;
 };
 
 // Minimises prep's problem from *x (its InitialX()) with `weighting` in at most `budget` iterations;

@@ -56,6 +56,7 @@
 #include "framework/math.h"
 #include "framework/registry.h"
 #include "robot/robot.h"
+#include "models/joint_error_regressors.h"
 #include "models/joint_errors.h"
 
 namespace kincal {
@@ -196,6 +197,9 @@ class ErrorModelProblem {
     JointErrors active_joint_errors;                    // the terms a row evaluates, with x's coefficients
     Eigen::VectorXd qbar, qbar_previous, q;             // drive angles (and the previous pose's), actual angles
     JointErrorMap joint_error_map;
+    // The active terms laid out once for the model's structure, and their per-row scratch.
+    PreparedRegressors regressors;
+    PreparedRegressors::Row regressor_row;
     std::vector<FixtureValue> fixtures;                 // per fixture slot
     Matrix6x3d J_fixture;
     Matrix6Xd J_model;

@@ -27,6 +27,7 @@ std::unique_ptr<ErrorModelProblem::Workspace> ErrorModelProblem::NewWorkspace() 
   ws->model = start_.model().Clone();
   ws->joint_errors = start_.joint_errors;
   ws->active_joint_errors = active_joint_errors_;
+  if (joint_errors_active_) ws->regressors = PreparedRegressors(active_joint_errors_, *ws->model);
   return ws;
 }
 
@@ -114,8 +115,8 @@ bool ErrorModelProblem::RowJointAngles(int row, bool jacobian, Workspace* ws) co
   }
   const JointErrorMap::Want want{jacobian && ratio_block_ >= 0, jacobian && ratio_block_ >= 0 && has_previous,
                                  jacobian && geometry_block_ >= 0 && gravity_terms_};
-  EvaluateJointErrorMap(ws->active_joint_errors, ContextOf(*ws), ws->qbar, has_previous ? &ws->qbar_previous : nullptr,
-                        want, &map);
+  ws->regressors.EvaluateMap(ws->active_joint_errors, ContextOf(*ws), ws->qbar,
+                             has_previous ? &ws->qbar_previous : nullptr, want, &ws->regressor_row, &map);
   ws->q = map.q;
   return has_previous;
 }

@@ -47,6 +47,11 @@ struct NormalEquations {
   double position_squares = 0.0;  // sum |r_position|^2, unweighted (the position RMS)
   int num_rows = 0;
   int num_residuals = 0;       // of the rows with a positive weight (the m of sigma^2)
+  // What AddPriorTerms added to, as the data left it: the cost, J^T r and the diagonal of J^T J
+  // (WithoutPriors); set by its first call.
+  bool prior_terms_added = false;
+  double data_cost = 0.0;
+  Eigen::VectorXd data_Jtr, data_JtJ_diagonal;
   double PositionRms() const;  // m
 };
 
@@ -62,6 +67,9 @@ NormalEquations AccumulateNormalEquations(const ErrorModelProblem& problem, cons
 
 // The prior terms above, added to *ne (its Jtr and JtJ where they are sized for x).
 void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, NormalEquations* ne);
+// What AccumulateNormalEquations returns with with_prior = false at the same x, to the bit, from what it
+// returned with the priors (ne itself when no prior term was added).
+NormalEquations WithoutPriors(const NormalEquations& ne);
 // Per free parameter, what its prior adds to the diagonal of J^T J: (noise / sd)^2, 0 without a prior.
 Eigen::VectorXd PriorInformation(const ErrorModelProblem& problem);
 

@@ -119,7 +119,7 @@ PredictionCovariance ComputePredictionCovariance(const PreparedErrorModel& prep,
                                                  const RowWeighting& weighting) {
   const ErrorModelProblem& problem = *prep.problem;
   const int p = problem.num_parameters();
-  const NormalEquations ne = AccumulateNormalEquations(problem, x, weighting);
+  const NormalEquations ne = NormalEquationsAt(prep, x, weighting);
   PredictionCovariance c;
   c.names = problem.ParameterNames();
   if (p == 0) return c;  // every parameter held: nothing to propagate

@@ -174,6 +174,12 @@ std::vector<PriorFactor> PriorFactors(const ErrorModelProblem& problem) {
 }
 
 void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, NormalEquations* ne) {
+  if (!ne->prior_terms_added) {
+    ne->prior_terms_added = true;
+    ne->data_cost = ne->cost;
+    ne->data_Jtr = ne->Jtr;
+    ne->data_JtJ_diagonal = ne->JtJ.diagonal();
+  }
   for (const PriorFactor& f : PriorFactors(problem)) {
     const int j = f.index;
     const double w = f.scale * f.scale;
@@ -183,6 +189,20 @@ void AddPriorTerms(const ErrorModelProblem& problem, const Eigen::VectorXd& x, N
     if (ne->Jtr.size() == x.size()) ne->Jtr[j] += w * r;
     if (ne->JtJ.rows() == x.size()) ne->JtJ(j, j) += w;
   }
+}
+
+NormalEquations WithoutPriors(const NormalEquations& ne) {
+  if (!ne.prior_terms_added) return ne;
+  NormalEquations out = ne;
+  out.prior_terms_added = false;
+  out.cost = ne.data_cost;
+  out.prior_cost = 0.0;
+  out.Jtr = ne.data_Jtr;
+  out.JtJ.diagonal() = ne.data_JtJ_diagonal;
+  out.data_Jtr.resize(0);
+  out.data_JtJ_diagonal.resize(0);
+  out.data_cost = 0.0;
+  return out;
 }
 
 Eigen::VectorXd PriorInformation(const ErrorModelProblem& problem) {

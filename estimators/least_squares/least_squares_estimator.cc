@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include <Eigen/Cholesky>
 
@@ -48,6 +49,7 @@ struct LmResult {
   std::string message = "iteration limit reached";
   int iterations = 0;
   double lambda = 0.0;
+  bool fresh = false;  // *ne comes from a pass at the final x (not the normal equations it started with)
 };
 
 // Levenberg-Marquardt from *x, where *ne holds the normal equations; both end at the solution.
@@ -93,6 +95,7 @@ LmResult Minimize(const ErrorModelProblem& problem, const LeastSquaresOptions& o
       const double old_cost = ne->cost;
       *x = x_new;
       *ne = std::move(ne_new);
+      out.fresh = true;
       lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
       nu = 2.0;
       if (step <= options.parameter_tolerance) {
@@ -138,6 +141,7 @@ void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controll
     run.message = lm.message;
     run.iterations = lm.iterations;
     run.details = {{"final_damping", lm.lambda}};
+    if (lm.fresh) run.normal_equations = std::make_shared<const NormalEquations>(std::move(ne));
     return run;
   };
   EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
