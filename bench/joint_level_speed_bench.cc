@@ -75,11 +75,12 @@ void BM_JointLevelSeriesA(benchmark::State& state) {
     const double t_prior = TimeFit(rich, train, prior, &p);
     const double t_select = TimeFit(rich, train, select, &s);
     // The audit as identify runs it after the selection: every candidate (3 in the smoke run).
-    const auto auditor = Estimators().Create("least_squares", AuditFitOptions(select));
+    const EstimatorFactory create = [](const YAML::Node& o) { return Estimators().Create("least_squares", o); };
     Robot audit_start = rich;
     if (smoke) audit_start.joint_errors.terms.resize(2);
     const double t0 = CpuSeconds();
-    const std::vector<CandidateHeldOut> audit = AuditCandidates(*auditor, audit_start, rich, train, heldout);
+    const std::vector<CandidateHeldOut> audit =
+        AuditCandidates(create, AuditFitOptions(select), audit_start, rich, train, heldout);
     const double t_audit = t_select + CpuSeconds() - t0;
     benchmark::DoNotOptimize(audit);
     state.counters["rows"] = static_cast<double>(train.rows.size());
