@@ -40,4 +40,8 @@ set(KINCAL_PUBLIC_HEADERS
   compensators/compensator.h
   # Robot program formats.
   programs/program.h
+  # The conformance kits for plugin authors (header-only, on GoogleTest).
+  testing/compensator_conformance.h
+  testing/estimator_conformance.h
+  testing/model_conformance.h
 )
