@@ -169,6 +169,26 @@ void AuditSelection(const std::vector<std::string>& methods, const std::vector<Y
 
 }  // namespace
 
+// The options of each stage from the file at options_path (with --select: the last stage's `select:
+// true`). Unknown methods, invalid options and a robot a method cannot start from fail before any work,
+// naming their files.
+std::vector<YAML::Node> StageOptions(const std::vector<std::string>& methods, const std::string& options_path,
+                                     bool select, const Robot& nominal, const std::string& nominal_path) {
+  for (const auto& m : methods) Estimators().Get(m);
+  std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(options_path), methods, options_path);
+  if (select) {
+    YAML::Node& last = options.back();
+    last = last && last.IsMap() ? YAML::Clone(last) : YAML::Node(YAML::NodeType::Map);
+    last["select"] = true;
+  }
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const auto estimator = NamingFile(options_path, [&] { return Estimators().Create(methods[i], options[i]); });
+    // The first stage starts from the robot file; later stages from its result, in the same convention.
+    NamingFile(nominal_path, [&] { estimator->CheckStart(nominal); });
+  }
+  return options;
+}
+
 void AddIdentifyCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("identify", "identify a robot from a dataset (see kincal methods)");
   struct Args {
@@ -198,19 +218,7 @@ void AddIdentifyCommand(CLI::App& app) {
     const Dataset all = ReadDataset(a->data);
     all.Validate(nominal.dof());
     const std::vector<std::string> methods = SplitComma(a->method);
-    for (const auto& m : methods) Estimators().Get(m);  // unknown names fail before any work
-    std::vector<YAML::Node> options = OptionsPerMethod(LoadYamlFile(a->options), methods, a->options);
-    if (a->select) {
-      YAML::Node& last = options.back();
-      last = last && last.IsMap() ? YAML::Clone(last) : YAML::Node(YAML::NodeType::Map);
-      last["select"] = true;
-    }
-    for (size_t i = 0; i < methods.size(); ++i) {  // invalid options fail before any work, naming the file
-      const auto estimator = NamingFile(a->options, [&] { return Estimators().Create(methods[i], options[i]); });
-      // A robot the method cannot start from names the robot file (the first stage starts from it; later
-      // stages from its result, in the same convention).
-      NamingFile(a->nominal, [&] { estimator->CheckStart(nominal); });
-    }
+    const std::vector<YAML::Node> options = StageOptions(methods, a->options, a->select, nominal, a->nominal);
 
     const Dataset train = all.HasSplit() ? all.Subset(Split::kTrain) : all;
     Dataset heldout;

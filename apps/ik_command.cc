@@ -42,6 +42,41 @@ NominalIkOptions ReadIkOptions(const std::string& path, int n) {
   return options;
 }
 
+// The targets file for a robot of n joints: points with optional orientations and reference joints.
+Dataset ReadIkTargets(const std::string& path, int n) {
+  Dataset data = ReadDataset(path);
+  data.RequireFullPoints("kincal ik (targets)");
+  if (data.dof != 0 && data.dof != n) {
+    ThrowInputError(data.source, data.header_line, 0,
+                    "the targets have " + std::to_string(data.dof) + " joint (reference) columns but the robot has " +
+                        std::to_string(n) + " joints");
+  }
+  if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit() ||
+      data.HasFromColumns()) {
+    ThrowInputError(data.source, data.header_line, 0,
+                    "targets take x, y, z, optionally qw, qx, qy, qz and references q1..qN; enc, sweep, marker, "
+                    "session, split and from_q columns have no meaning here");
+  }
+  if (data.rows.empty()) ThrowInputError(data.source, data.header_line, 0, "no targets");
+  return data;
+}
+
+// The shortest decimal text that reads back as `value`, appended to *out.
+template <typename T>
+void AppendNumber(T value, std::string* out) {
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  (void)ec;
+  out->append(buffer, end);
+}
+
+// "3 solved, 1 unreachable": the count of each status.
+std::string CountsInWords(const std::map<std::string, int>& counts) {
+  std::string words;
+  for (const auto& [status, count] : counts) words += (words.empty() ? "" : ", ") + std::to_string(count) + " " + status;
+  return words;
+}
+
 }  // namespace
 
 void AddIkCommand(CLI::App& app) {
@@ -60,21 +95,8 @@ void AddIkCommand(CLI::App& app) {
   cmd->add_option("--options", a->options, "the solver's options (YAML; kincal methods --options ik)");
   cmd->callback([a]() {
     const Robot robot = ReadRobotFile(a->robot);
-    const Dataset data = ReadDataset(a->targets);
-    data.RequireFullPoints("kincal ik (targets)");
     const int n = robot.dof();
-    if (data.dof != 0 && data.dof != n) {
-      ThrowInputError(data.source, data.header_line, 0,
-                      "the targets have " + std::to_string(data.dof) + " joint (reference) columns but the robot has " +
-                          std::to_string(n) + " joints");
-    }
-    if (data.HasEncoders() || data.HasSweeps() || data.HasMarkers() || data.HasSessions() || data.HasSplit() ||
-        data.HasFromColumns()) {
-      ThrowInputError(data.source, data.header_line, 0,
-                      "targets take x, y, z, optionally qw, qx, qy, qz and references q1..qN; enc, sweep, marker, "
-                      "session, split and from_q columns have no meaning here");
-    }
-    if (data.rows.empty()) ThrowInputError(data.source, data.header_line, 0, "no targets");
+    const Dataset data = ReadIkTargets(a->targets, n);
     const NominalIkOptions options = ReadIkOptions(a->options, n);
     const NominalInverseKinematics ik =
         NamingFile(a->options, [&] { return NominalInverseKinematics(robot, options); });
@@ -82,12 +104,7 @@ void AddIkCommand(CLI::App& app) {
     const Unit length = data.length_unit;
     const double deg = M_PI / 180.0;
     std::string out;
-    const auto append = [&out](auto value) {
-      char buffer[32];
-      const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
-      (void)ec;
-      out.append(buffer, end);
-    };
+    const auto append = [&out](auto value) { AppendNumber(value, &out); };
     if (a->all_branches) out += "target,";
     for (int i = 1; i <= n; ++i) out += "q" + std::to_string(i) + "_" + angle.name + ",";
     out += "status,branch,position_error_" + length.name + ",orientation_error_deg\n";
@@ -136,13 +153,8 @@ void AddIkCommand(CLI::App& app) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     WriteFileAtomically(a->out, out);
-    std::cout << "ik (" << ik.method() << "): " << data.rows.size() << " targets (";
-    bool first = true;
-    for (const auto& [status, count] : counts) {
-      std::cout << (first ? "" : ", ") << count << " " << status;
-      first = false;
-    }
-    std::cout << "), " << seconds / data.rows.size() * 1e6 << " us per target; wrote " << a->out << "\n";
+    std::cout << "ik (" << ik.method() << "): " << data.rows.size() << " targets (" << CountsInWords(counts) << "), "
+              << seconds / data.rows.size() * 1e6 << " us per target; wrote " << a->out << "\n";
   });
 }
 

@@ -44,6 +44,39 @@ PredictionCovariance ReadReportCovariance(const std::string& path) {
   return NamingFile(path, [&] { return PredictionCovariance::FromJson(*found); });
 }
 
+// The predicted marker positions of every row; a marker the robot does not know names its row, and a
+// prediction that is not finite (values out of range) names the robot file: never a NaN written silently.
+std::vector<Eigen::Vector3d> FinitePredictions(const Robot& controller, const Robot& robot, const Dataset& data,
+                                               const std::string& robot_path) {
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    try {
+      robot.MarkerPosition(data.rows[i].marker);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(data.source + ":" + std::to_string(data.rows[i].line) + ": " + e.what());
+    }
+  }
+  const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
+  for (size_t i = 0; i < predicted.size(); ++i) {
+    if (!predicted[i].allFinite() || !RowResidual(robot, data, i, predicted[i]).allFinite()) {
+      ThrowInputError(robot_path, 0, 0,
+                      "the prediction for " + data.source + " line " + std::to_string(data.rows[i].line) +
+                          " is not finite: values out of range in the robot file or the dataset");
+    }
+  }
+  return predicted;
+}
+
+// How many rows lie outside what the training poses support, and the model inadequacy.
+void PrintSupport(const PredictionCovariance& cov, const std::vector<double>& sd, const Dataset& data) {
+  int outside = 0;
+  for (size_t i = 0; i < sd.size(); ++i) outside += cov.OutsideSupport(sd[i], data.rows[i].q) ? 1 : 0;
+  std::printf(
+      "%d rows outside what the training poses support (sd_param_mm > %.4g, 3 x the training rows' median, or a "
+      "joint more than %.3g beyond the training rows' range)\n",
+      outside, cov.SupportThreshold() * 1e3, PredictionCovariance::kJointMargin);
+  std::printf("%s\n", InadequacySummary(cov).c_str());
+}
+
 }  // namespace
 
 void AddPredictCommand(CLI::App& app) {
@@ -71,21 +104,7 @@ void AddPredictCommand(CLI::App& app) {
       throw std::invalid_argument(a->nominal + ": the nominal robot has " + std::to_string(controller.dof()) +
                                   " joints, " + a->robot + " has " + std::to_string(robot.dof()));
     }
-    for (size_t i = 0; i < data.rows.size(); ++i) {
-      try {
-        robot.MarkerPosition(data.rows[i].marker);
-      } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(a->data + ":" + std::to_string(data.rows[i].line) + ": " + e.what());
-      }
-    }
-    const std::vector<Eigen::Vector3d> predicted = PredictMarkers(controller, robot, data);
-    for (size_t i = 0; i < predicted.size(); ++i) {  // never a NaN written silently
-      if (!predicted[i].allFinite() || !RowResidual(robot, data, i, predicted[i]).allFinite()) {
-        ThrowInputError(a->robot, 0, 0,
-                        "the prediction for " + a->data + " line " + std::to_string(data.rows[i].line) +
-                            " is not finite: values out of range in the robot file or the dataset");
-      }
-    }
+    const std::vector<Eigen::Vector3d> predicted = FinitePredictions(controller, robot, data, a->robot);
     std::vector<double> sd;
     PredictionCovariance cov;
     if (!a->report.empty()) {
@@ -131,15 +150,7 @@ void AddPredictCommand(CLI::App& app) {
     });
     const double rms = data.rows.empty() ? 0.0 : std::sqrt(sum2 / data.rows.size());
     std::printf("wrote %s: %zu rows, RMS error %.6g mm\n", a->out.c_str(), data.rows.size(), rms * 1e3);
-    if (!sd.empty()) {
-      int outside = 0;
-      for (size_t i = 0; i < sd.size(); ++i) outside += cov.OutsideSupport(sd[i], data.rows[i].q) ? 1 : 0;
-      std::printf(
-          "%d rows outside what the training poses support (sd_param_mm > %.4g, 3 x the training rows' median, or a "
-          "joint more than %.3g beyond the training rows' range)\n",
-          outside, cov.SupportThreshold() * 1e3, PredictionCovariance::kJointMargin);
-      std::printf("%s\n", InadequacySummary(cov).c_str());
-    }
+    if (!sd.empty()) PrintSupport(cov, sd, data);
   });
 }
 

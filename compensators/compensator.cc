@@ -80,6 +80,37 @@ namespace {
 
 double MaxJointDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
 
+// The nominal arm's closed-form branches of the target moved by the pose error at the seed,
+// T_nominal(seed) T_identified(seed)^-1 T_target (the pose whose nominal solution the identified arm puts
+// at the target, to first order), then those of the target itself; the nearest to the seed first.
+std::vector<IkSolution> BranchStarts(const NominalInverseKinematics& ik, const Robot& nominal, const Robot& identified,
+                                     const CompensationTarget& target, const Eigen::VectorXd& seed) {
+  const Eigen::Isometry3d T_shifted = nominal.model().ForwardKinematics(seed) *
+                                      identified.model().ForwardKinematics(seed).inverse() * target.T_meas_tool;
+  std::vector<IkSolution> starts = ik.AllBranches(T_shifted, seed);
+  for (IkSolution& s : ik.AllBranches(target.T_meas_tool, seed)) starts.push_back(std::move(s));
+  std::stable_sort(starts.begin(), starts.end(), [&](const IkSolution& a, const IkSolution& b) {
+    return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
+  });
+  return starts;
+}
+
+// Throws std::invalid_argument for a target the interface cannot take: non-finite, or joints of another
+// count than the arm's.
+void CheckTarget(const CompensationTarget& target, int n) {
+  if (!target.T_meas_tool.matrix().allFinite()) throw std::invalid_argument("compensate: non-finite target");
+  if (target.previous_command.size() != 0 &&
+      (target.previous_command.size() != n || !target.previous_command.allFinite())) {
+    throw std::invalid_argument("compensate: the previous command has " +
+                                std::to_string(target.previous_command.size()) + " joints, expected " +
+                                std::to_string(n));
+  }
+  if (target.seed.size() != 0 && target.seed.size() != n) {
+    throw std::invalid_argument("compensate: the seed has " + std::to_string(target.seed.size()) +
+                                " joints, expected " + std::to_string(n));
+  }
+}
+
 }  // namespace
 
 void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorXd& seed,
@@ -117,18 +148,10 @@ void Compensator::Restart(const CompensationTarget& target, const Eigen::VectorX
     return false;
   };
 
-  // 1. The nominal arm's closed-form branches of the target moved by the pose error at the seed,
-  // T_nominal(seed) T_identified(seed)^-1 T_target (the pose whose nominal solution the identified arm
-  // puts at the target, to first order), then those of the target itself; the nearest to the seed first.
-  // Starts on the controller's branch are tried first, the others only when other branches are allowed.
+  // 1. The nominal arm's closed-form branches (BranchStarts). Starts on the controller's branch are
+  // tried first, the others only when other branches are allowed.
   if (nominal_ik_->has_closed_form() && target.has_orientation) {
-    const Eigen::Isometry3d T_shifted = nominal_.model().ForwardKinematics(seed) *
-                                        identified_.model().ForwardKinematics(seed).inverse() * target.T_meas_tool;
-    std::vector<IkSolution> starts = nominal_ik_->AllBranches(T_shifted, seed);
-    for (IkSolution& s : nominal_ik_->AllBranches(target.T_meas_tool, seed)) starts.push_back(std::move(s));
-    std::stable_sort(starts.begin(), starts.end(), [&](const IkSolution& a, const IkSolution& b) {
-      return (a.q - seed).squaredNorm() < (b.q - seed).squaredNorm();
-    });
+    const std::vector<IkSolution> starts = BranchStarts(*nominal_ik_, nominal_, identified_, target, seed);
     for (int pass = 0; pass < (options.other_branches ? 2 : 1) && elsewhere.empty(); ++pass) {
       for (const IkSolution& s : starts) {
         if ((MaxJointDistance(s.q, seed) <= options.same_branch_distance) != (pass == 0)) continue;
@@ -169,17 +192,7 @@ CompensationResult Compensator::Compensate(const CompensationTarget& target) con
   if (!prepared_) throw std::logic_error("Compensator::Compensate called before Prepare");
   const auto t0 = std::chrono::steady_clock::now();
   const int n = identified_.dof();
-  if (!target.T_meas_tool.matrix().allFinite()) throw std::invalid_argument("compensate: non-finite target");
-  if (target.previous_command.size() != 0 &&
-      (target.previous_command.size() != n || !target.previous_command.allFinite())) {
-    throw std::invalid_argument("compensate: the previous command has " +
-                                std::to_string(target.previous_command.size()) + " joints, expected " +
-                                std::to_string(n));
-  }
-  if (target.seed.size() != 0 && target.seed.size() != n) {
-    throw std::invalid_argument("compensate: the seed has " + std::to_string(target.seed.size()) +
-                                " joints, expected " + std::to_string(n));
-  }
+  CheckTarget(target, n);
   CompensationResult result;
   // A seed from a targets file is the controller's joint readings; its joints are the coupled ones.
   Eigen::VectorXd computed_seed;

@@ -68,13 +68,22 @@ const EstimatorRegistry& Estimators() { return MutableEstimators(); }
 std::vector<EstimationReport> RunPipeline(const std::vector<std::string>& methods,
                                           const std::vector<YAML::Node>& options, const Robot& nominal,
                                           const Dataset& data, Robot* identified) {
+  return RunPipeline(Estimators(), methods, options, nominal, data, identified);
+}
+
+std::vector<EstimationReport> RunPipeline(const EstimatorRegistry& registry, const std::vector<std::string>& methods,
+                                          const std::vector<YAML::Node>& options, const Robot& nominal,
+                                          const Dataset& data, Robot* identified,
+                                          const std::function<void(const Robot&)>& check, size_t* failed_stage) {
   std::vector<EstimationReport> reports;
   Robot current = nominal;
   for (size_t i = 0; i < methods.size(); ++i) {
-    const auto estimator = Estimators().Create(methods[i], i < options.size() ? options[i] : YAML::Node());
+    if (failed_stage) *failed_stage = i;
+    const auto estimator = registry.Create(methods[i], i < options.size() ? options[i] : YAML::Node());
     Robot next;
     reports.push_back(estimator->Estimate(current, nominal, data, &next));
     current = std::move(next);
+    if (check) check(current);
   }
   *identified = std::move(current);
   return reports;

@@ -2,6 +2,8 @@
 // Estimator: identifies a robot from a dataset. Non-virtual entry point (Ceres Solver::Solve, Drake
 // SolverInterface::Solve): Estimate() validates the input, times the run and fills the common fields of
 // the report, then calls the private DoEstimate().
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,9 +82,18 @@ using EstimatorRegistry = Registry<Estimator>;
 // Every estimator kincal knows (defined in estimators/builtin.cc).
 const EstimatorRegistry& Estimators();
 
-// Runs estimators in order, each refining the robot of the one before (`kincal identify --method a,b`).
+// Runs estimators in order, each refining the robot of the one before (`kincal identify --method a,b`);
+// options[i] (absent: the defaults) configures methods[i].
 std::vector<EstimationReport> RunPipeline(const std::vector<std::string>& methods,
                                           const std::vector<YAML::Node>& options, const Robot& nominal,
                                           const Dataset& data, Robot* identified);
+// The same with the methods of `registry` (a study's injected registries). `check`, when given, sees the
+// robot of each stage and may throw to stop the pipeline. Whatever a stage throws (its creation from the
+// options, its run, the check) leaves the pipeline with *failed_stage, when given, set to its index.
+std::vector<EstimationReport> RunPipeline(const EstimatorRegistry& registry, const std::vector<std::string>& methods,
+                                          const std::vector<YAML::Node>& options, const Robot& nominal,
+                                          const Dataset& data, Robot* identified,
+                                          const std::function<void(const Robot&)>& check = nullptr,
+                                          size_t* failed_stage = nullptr);
 
 }  // namespace kincal

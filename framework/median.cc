@@ -16,4 +16,11 @@ double Median(std::vector<double> values) {
   return 0.5 * (*std::max_element(values.begin(), values.begin() + static_cast<long>(half)) + upper);
 }
 
+double Quantile(const std::vector<double>& sorted, double f) {
+  const double pos = f * static_cast<double>(sorted.size() - 1);
+  const size_t i = static_cast<size_t>(std::floor(pos));
+  if (i + 1 >= sorted.size()) return sorted.back();
+  return sorted[i] + (pos - static_cast<double>(i)) * (sorted[i + 1] - sorted[i]);
+}
+
 }  // namespace kincal

@@ -8,4 +8,9 @@ namespace kincal {
 
 double Median(std::vector<double> values);
 
+// The quantile f in [0, 1] of sorted values, interpolated linearly between the two nearest ranks
+// (Hyndman and Fan's type 7, R's and NumPy's default): Quantile(sorted, 0.5) is the median above for
+// finite values. `sorted` must be ascending, finite and not empty.
+double Quantile(const std::vector<double>& sorted, double f);
+
 }  // namespace kincal

@@ -84,37 +84,9 @@ class KrlFormat final : public ProgramFormat {
   }
 
  private:
-  static void ReadLine(const std::string& t, const std::string& path, size_t begin, size_t end, int line,
-                       std::vector<ProgramTarget>* out) {
-    const size_t comment = t.find(';', begin);
-    if (comment != std::string::npos && comment < end) end = comment;
-    // Words before '=': [DECL] [GLOBAL] TYPE NAME
-    const size_t eq = t.find('=', begin);
-    if (eq == std::string::npos || eq >= end) return;
-    std::vector<std::string> words;
-    std::string word;
-    for (size_t i = begin; i <= eq; ++i) {
-      const char c = i < eq ? t[i] : ' ';
-      if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$' || c == '[' || c == ']') {
-        word += c;
-      } else if (!word.empty()) {
-        words.push_back(word);
-        word.clear();
-      }
-    }
-    size_t w = 0;
-    if (w < words.size() && Upper(words[w]) == "DECL") ++w;
-    if (w < words.size() && Upper(words[w]) == "GLOBAL") ++w;
-    if (words.size() != w + 2) return;
-    const std::string type = Upper(words[w]);
-    const bool pose = type == "E6POS" || type == "POS" || type == "FRAME";
-    const bool joints = type == "E6AXIS" || type == "AXIS";
-    if (!pose && !joints) return;
-    const size_t open = t.find_first_not_of(" \t", eq + 1);
-    if (open >= end || t[open] != '{') ThrowAt(path, t, eq + 1, "expected '{' after '=' in a " + type + " declaration");
-    const size_t close = t.find('}', open);
-    if (close == std::string::npos || close >= end) ThrowAt(path, t, open, "unclosed '{'");
-    // Components "NAME value", separated by ','.
+  // The components "NAME value" between the braces at open and close, separated by ','.
+  static std::map<std::string, NumberSpan> ReadComponents(const std::string& t, const std::string& path, size_t open,
+                                                          size_t close) {
     std::map<std::string, NumberSpan> parts;
     size_t i = open + 1;
     while (i < close) {
@@ -156,6 +128,40 @@ class KrlFormat final : public ProgramFormat {
       }
       if (!parts.emplace(name, s).second) ThrowAt(path, t, name_begin, "component " + name + " given twice");
     }
+    return parts;
+  }
+
+  static void ReadLine(const std::string& t, const std::string& path, size_t begin, size_t end, int line,
+                       std::vector<ProgramTarget>* out) {
+    const size_t comment = t.find(';', begin);
+    if (comment != std::string::npos && comment < end) end = comment;
+    // Words before '=': [DECL] [GLOBAL] TYPE NAME
+    const size_t eq = t.find('=', begin);
+    if (eq == std::string::npos || eq >= end) return;
+    std::vector<std::string> words;
+    std::string word;
+    for (size_t i = begin; i <= eq; ++i) {
+      const char c = i < eq ? t[i] : ' ';
+      if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$' || c == '[' || c == ']') {
+        word += c;
+      } else if (!word.empty()) {
+        words.push_back(word);
+        word.clear();
+      }
+    }
+    size_t w = 0;
+    if (w < words.size() && Upper(words[w]) == "DECL") ++w;
+    if (w < words.size() && Upper(words[w]) == "GLOBAL") ++w;
+    if (words.size() != w + 2) return;
+    const std::string type = Upper(words[w]);
+    const bool pose = type == "E6POS" || type == "POS" || type == "FRAME";
+    const bool joints = type == "E6AXIS" || type == "AXIS";
+    if (!pose && !joints) return;
+    const size_t open = t.find_first_not_of(" \t", eq + 1);
+    if (open >= end || t[open] != '{') ThrowAt(path, t, eq + 1, "expected '{' after '=' in a " + type + " declaration");
+    const size_t close = t.find('}', open);
+    if (close == std::string::npos || close >= end) ThrowAt(path, t, open, "unclosed '{'");
+    const std::map<std::string, NumberSpan> parts = ReadComponents(t, path, open, close);
     ProgramTarget target;
     target.line = line;
     target.column = 1;

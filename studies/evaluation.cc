@@ -11,8 +11,10 @@
 
 #include "compensators/program.h"
 #include "estimators/error_model/prediction_uncertainty.h"
+#include "estimators/frames_only_options.h"
 #include "framework/error.h"
 #include "framework/math.h"
+#include "framework/median.h"
 #include "framework/pose_tables.h"
 #include "robot/prediction.h"
 #include "studies/measured_iso9283.h"
@@ -20,18 +22,6 @@
 
 namespace kincal {
 namespace {
-
-double Quantile(const std::vector<double>& sorted, double f) {
-  const double pos = f * (sorted.size() - 1);
-  const size_t i = static_cast<size_t>(std::floor(pos));
-  if (i + 1 >= sorted.size()) return sorted.back();
-  return sorted[i] + (pos - i) * (sorted[i + 1] - sorted[i]);
-}
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return Quantile(v, 0.5);
-}
 
 YAML::Node LoadOptions(const std::string& text) { return text.empty() ? YAML::Node() : YAML::Load(text); }
 
@@ -41,17 +31,6 @@ Eigen::VectorXd TruthAngles(const Robot& nominal, const Robot& truth, const Comp
                             const Eigen::VectorXd* previous_command) {
   return ActualFromReadings(nominal, truth, r.q_command, previous_command,
                             truth.drives ? r.encoders : std::vector<int64_t>{});
-}
-
-// The baseline on measured data: the nominal geometry placed in the instrument's frame, only the base and
-// the tool or markers fitted to the training rows. The nominal robot as its file gives it sits in its own
-// base frame, metres away from the tracker's (2568 mm on the IRB 120 of ../shared/data): no reference.
-YAML::Node PlacementOptions(const Robot& nominal) {
-  YAML::Node options;
-  for (int j = 1; j <= nominal.dof(); ++j) options["fixed"].push_back("joint_" + std::to_string(j));
-  if (!nominal.joint_errors.terms.empty()) options["fixed"].push_back("joint_errors");
-  options["identify_ratios"] = false;
-  return options;
 }
 
 // An estimator that stopped with parameters on their bounds found the minimum of a smaller model than
@@ -364,59 +343,94 @@ Dataset StudyEvaluator::TrainingData(const WorkItem& item, Dataset* test) const 
 // compensator, its rows) with the reason as the note; the study goes on.
 ItemResult StudyEvaluator::Run(const WorkItem& item) const {
   try {
-    return RunOrFail(item, "");
+    return RunItem(item, "");
   } catch (const std::exception& e) {
-    return RunOrFail(item, std::string("work item failed: ") + e.what());
+    return RunItem(item, std::string("work item failed: ") + e.what());
   } catch (...) {
-    return RunOrFail(item, "work item failed: an exception that is not a std::exception");
+    return RunItem(item, "work item failed: an exception that is not a std::exception");
   }
 }
 
-ItemResult StudyEvaluator::RunOrFail(const WorkItem& item, const std::string& failure) const {
-  ItemResult result;
-  result.item = item;
-  const DatasetVariant& variant = variants_[item.variant];
-  const DatasetSpec& spec = study_.datasets[variant.dataset];
-  const PreparedDataset& d = datasets_[variant.dataset];
-  const PipelineSpec& pipeline = study_.pipelines[item.pipeline];
+namespace {
 
-  Dataset test;
+// The estimators of an item's pipeline: the injected ones, where the baseline `none` on measured data is
+// the nominal geometry placed in the instrument's frame, only the base and the tool or markers fitted to
+// the training rows (kincal's least_squares with FramesOnlyOptions, whatever the stage's options). The
+// nominal robot as its file gives it sits in its own base frame, metres away from the tracker's (2568 mm
+// on the IRB 120 of ../shared/data): no reference. Simulated data are in the truth's frame.
+EstimatorRegistry ItemEstimators(const EstimatorRegistry& injected, const DatasetSpec& spec, const Robot& nominal) {
+  EstimatorRegistry registry = injected;
+  if (!spec.simulated) {
+    const auto placement = [&nominal](const YAML::Node&) {
+      return Estimators().Create("least_squares", FramesOnlyOptions(nominal));
+    };
+    registry.Register({"none", "the nominal geometry placed in the instrument's frame", placement, {}});
+  }
+  return registry;
+}
+
+}  // namespace
+
+std::vector<EstimationReport> StudyEvaluator::Identify(const WorkItem& item, const std::string& failure, Dataset* test,
+                                                     Robot* identified, ItemResult* result) const {
+  const DatasetSpec& spec = study_.datasets[variants_[item.variant].dataset];
+  const PreparedDataset& d = datasets_[variants_[item.variant].dataset];
+  const PipelineSpec& pipeline = study_.pipelines[item.pipeline];
   std::vector<EstimationReport> reports;
-  Robot identified = d.nominal;
   std::string method;  // the estimator running, for the note of a failure
   try {
     if (!failure.empty()) throw std::runtime_error(failure);
-    const Dataset train = TrainingData(item, &test);
-    double seconds = 0.0;
+    const Dataset train = TrainingData(item, test);
+    std::vector<YAML::Node> options;
     for (size_t i = 0; i < pipeline.methods.size(); ++i) {
       method = pipeline.methods[i];
-      const bool placement = !spec.simulated && pipeline.methods[i] == "none";
-      const auto estimator =
-          placement ? Estimators().Create("least_squares", PlacementOptions(d.nominal))
-                    : registries_.estimators->Create(pipeline.methods[i], LoadOptions(pipeline.options_yaml[i]));
-      Robot next;
-      reports.push_back(estimator->Estimate(identified, d.nominal, train, &next));
-      seconds += reports.back().wall_time_seconds;
-      identified = std::move(next);
-      const std::string non_finite = NonFiniteParameters(identified);
-      if (!non_finite.empty()) throw std::runtime_error("returned non-finite parameters (" + non_finite + ")");
+      options.push_back(!spec.simulated && method == "none" ? YAML::Node() : LoadOptions(pipeline.options_yaml[i]));
     }
+    const EstimatorRegistry registry = ItemEstimators(*registries_.estimators, spec, d.nominal);
+    size_t stage = 0;
+    try {
+      reports = RunPipeline(
+          registry, pipeline.methods, options, d.nominal, train, identified,
+          [](const Robot& robot) {
+            const std::string non_finite = NonFiniteParameters(robot);
+            if (!non_finite.empty()) throw std::runtime_error("returned non-finite parameters (" + non_finite + ")");
+          },
+          &stage);
+    } catch (...) {
+      method = pipeline.methods[stage];
+      throw;
+    }
+    double seconds = 0.0;
+    for (const EstimationReport& r : reports) seconds += r.wall_time_seconds;
     method.clear();
-    result.identify_seconds = seconds;
-    if (!reports.empty()) result.selection = SelectionRows(reports.back());
-    result.estimation_status = WorstStatus(reports);
+    result->identify_seconds = seconds;
+    if (!reports.empty()) result->selection = SelectionRows(reports.back());
+    result->estimation_status = WorstStatus(reports);
     for (const auto& r : reports) {
       std::string why = r.status != EstimationStatus::kConverged ? r.message : "";
       if (ParametersAtBounds(r) > 0) {
         why += (why.empty() ? "" : ", ") + std::to_string(ParametersAtBounds(r)) + " parameter(s) on their bounds";
       }
       if (!why.empty())
-        result.estimation_note += (result.estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
+        result->estimation_note += (result->estimation_note.empty() ? "" : "; ") + r.estimator + ": " + why;
     }
   } catch (...) {
-    result.estimation_status = "error";
-    result.estimation_note = (method.empty() ? "" : "estimator " + method + ": ") + CurrentExceptionText();
+    result->estimation_status = "error";
+    result->estimation_note = (method.empty() ? "" : "estimator " + method + ": ") + CurrentExceptionText();
   }
+  return reports;
+}
+
+ItemResult StudyEvaluator::RunItem(const WorkItem& item, const std::string& failure) const {
+  ItemResult result;
+  result.item = item;
+  const DatasetVariant& variant = variants_[item.variant];
+  const DatasetSpec& spec = study_.datasets[variant.dataset];
+  const PreparedDataset& d = datasets_[variant.dataset];
+
+  Dataset test;
+  Robot identified = d.nominal;
+  const std::vector<EstimationReport> reports = Identify(item, failure, &test, &identified, &result);
   if (result.estimation_status != "error") {
     result.parameters = ParameterRows(d.nominal, spec.simulated ? &d.truth : nullptr, identified, reports);
   }

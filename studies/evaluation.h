@@ -118,7 +118,12 @@ class StudyEvaluator {
     std::vector<bool> orientation;                       // per validation set
   };
   // Run, with every method failure caught; a non-empty `failure` fails the item without running anything.
-  ItemResult RunOrFail(const WorkItem& item, const std::string& failure) const;
+  ItemResult RunItem(const WorkItem& item, const std::string& failure) const;
+  // The item's pipeline (RunPipeline with the injected registries) on its training rows, *test the
+  // held-out ones: the reports and *identified; the estimation's status, note and time in *result, the
+  // status "error" when a method failed (the note names it).
+  std::vector<EstimationReport> Identify(const WorkItem& item, const std::string& failure, Dataset* test,
+                                         Robot* identified, ItemResult* result) const;
   Dataset TrainingData(const WorkItem& item, Dataset* test) const;
   void Evaluate(const WorkItem& item, const PreparedDataset& d, const Robot& identified, const std::string& status,
                 const std::string& note, ItemResult* result) const;

@@ -83,15 +83,28 @@ void JointSpaceCompensator::DoPrepare() {
     screws_.col(j).tail<3>() = 0.5 * Eigen::Vector3d(dX(2, 1) - dX(1, 2), dX(0, 2) - dX(2, 0), dX(1, 0) - dX(0, 1));
   }
 
-  // The fit against the model at random configurations (every angle for revolute joints: the series
-  // is periodic; prismatic joints within their limits).
   info_ = TableInfo();
   Rng rng(20261123);
+  MeasureFit(&rng);
+  FitOffset(&rng);
+  info_.factors = n;
+  info_.terms = factors_[0].num_terms();
+  info_.memory_bytes = sizeof(T_zero_) + offset_.size() * sizeof(double);
+  for (const PoseExpansion& f : factors_) info_.memory_bytes += f.memory_bytes();
+  info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void JointSpaceCompensator::MeasureFit(Rng* rng) {
+  const Robot& id = identified();
+  const KinematicModel& model = id.model();
+  const int n = id.dof();
+  // The fit against the model at random configurations (every angle for revolute joints: the series
+  // is periodic; prismatic joints within their limits).
   for (int i = 0; i < 200; ++i) {
     Joints q(n);
     for (int j = 0; j < n; ++j) {
       const auto [low, high] = id.Limit(j);
-      q[j] = model.joint_type(j) == JointType::kRevolute ? rng.Uniform(-M_PI, M_PI) : rng.Uniform(low, high);
+      q[j] = model.joint_type(j) == JointType::kRevolute ? rng->Uniform(-M_PI, M_PI) : rng->Uniform(low, high);
     }
     Eigen::Isometry3d T;
     Pose(q, &T);
@@ -106,6 +119,10 @@ void JointSpaceCompensator::DoPrepare() {
                                 std::to_string(info_.fit_position_error) + " m, " +
                                 std::to_string(info_.fit_orientation_error) + " (over max_fit_error)");
   }
+}
+
+void JointSpaceCompensator::FitOffset(Rng* rng) {
+  const int n = identified().dof();
   // The common part of the correction (header): exact corrections at well-conditioned random
   // configurations of the nominal robot, solved offline by as many steps as they need.
   offset_ = Eigen::VectorXd::Zero(n);
@@ -114,7 +131,7 @@ void JointSpaceCompensator::DoPrepare() {
     Eigen::VectorXd q(n);
     for (int j = 0; j < n; ++j) {
       const auto [low, high] = nominal().Limit(j);
-      q[j] = rng.Uniform(low, high);
+      q[j] = rng->Uniform(low, high);
     }
     if (JacobianConditionRatio(nominal().model(), q, options_.length_scale) < 0.02) continue;
     CompensationTarget target;
@@ -133,11 +150,6 @@ void JointSpaceCompensator::DoPrepare() {
     offset_[j] = c[c.size() / 2];
   }
   info_.offset_samples = static_cast<int>(corrections[0].size());
-  info_.factors = n;
-  info_.terms = factors_[0].num_terms();
-  info_.memory_bytes = sizeof(T_zero_) + offset_.size() * sizeof(double);
-  for (const PoseExpansion& f : factors_) info_.memory_bytes += f.memory_bytes();
-  info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void JointSpaceCompensator::JointTrig::Set(const Joints& q) {

@@ -44,6 +44,8 @@
 
 namespace kincal {
 
+class Rng;
+
 class JointSpaceCompensator final : public Compensator {
  public:
   struct Options {
@@ -121,6 +123,10 @@ class JointSpaceCompensator final : public Compensator {
 
  private:
   void DoPrepare() override;
+  // Prepare()'s last parts: the expansion measured against the model at random configurations of `rng`
+  // (throws beyond max_fit_error), then the common correction offset_ from the same stream.
+  void MeasureFit(Rng* rng);
+  void FitOffset(Rng* rng);
   void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                     CompensationResult* result) const override;
   // `steps` damped Gauss-Newton steps towards `target` from *q; *cut tells whether one was shortened.

@@ -1,5 +1,6 @@
 #include "estimators/ratio_regression/ratio_regression_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -31,10 +32,10 @@ RatioRegressionEstimator::Options RatioRegressionEstimator::Options::FromYaml(co
   return Table().Read(node);
 }
 
-void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
-                                          Robot* identified, EstimationReport* report) const {
-  std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + OneLine(why));
+namespace {
+
+// Ratios need full points (arc fits), drives to hold them and the motor angles: counts or the controller's.
+void RequireRatioInput(const Robot& start, const Robot& controller, const Dataset& data) {
   data.RequireFullPoints("ratio_regression (arc fits)");
   if (!start.drives) {
     throw std::invalid_argument(
@@ -45,6 +46,55 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
         "ratio_regression: " + data.source +
         ": the rows carry no encoder counts and the controller has no drives, so the motor angles are unknown");
   }
+}
+
+// The report's parameters (the swept joints' ratios K, the others held) and the per-joint details.
+nlohmann::json ReportRatios(const std::vector<int>& joints, const std::vector<ArcFit>& fits, const Eigen::VectorXd& K,
+                            const Eigen::VectorXd& K_start, const Eigen::VectorXd& stddev,
+                            EstimationReport* report) {
+  nlohmann::json per_joint = nlohmann::json::array();
+  for (size_t k = 0; k < joints.size(); ++k) {
+    const int j = joints[k];
+    const ArcFit& f = fits[j - 1];
+    ParameterEstimate p;
+    p.name = "ratio_" + std::to_string(j);
+    p.unit = "";
+    p.nominal = K_start[j - 1];
+    p.value = K[k];
+    p.stddev = stddev[k];
+    report->parameters.push_back(p);
+    const double angle_rms = f.tangential_rms / f.radius;
+    per_joint.push_back({{"joint", j},
+                         {"ratio", K[k]},
+                         {"stddev", std::isfinite(stddev[k]) ? nlohmann::json(stddev[k]) : nlohmann::json(nullptr)},
+                         {"stops", f.stops},
+                         {"arc_deg", f.arc * 180.0 / M_PI},
+                         {"radius_m", f.radius},
+                         {"angle_slope", f.angle_slope},
+                         {"angle_rms_rad", angle_rms},
+                         {"motor_angle_rms_rad", angle_rms * std::abs(K[k])}});
+    report->iterations += f.iterations;
+  }
+  for (int j = 1; j <= K_start.size(); ++j) {
+    if (std::find(joints.begin(), joints.end(), j) != joints.end()) continue;
+    ParameterEstimate p;
+    p.name = "ratio_" + std::to_string(j);
+    p.nominal = p.value = K_start[j - 1];
+    p.free = false;
+    p.note = "not swept";
+    report->parameters.push_back(p);
+    report->fixed_parameters.push_back(p.name);
+  }
+  return per_joint;
+}
+
+}  // namespace
+
+void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& controller, const Dataset& data,
+                                          Robot* identified, EstimationReport* report) const {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("ratio_regression: invalid options: " + OneLine(why));
+  RequireRatioInput(start, controller, data);
   const int n = start.dof();
   const geometric::SweepSet sweeps =
       geometric::ExtractSweeps(controller, start, data, options_.marker, "ratio_regression");
@@ -80,39 +130,7 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
   *identified = start;
   for (size_t k = 0; k < joints.size(); ++k) identified->drives->ratio[joints[k] - 1] = K[k];
 
-  nlohmann::json per_joint = nlohmann::json::array();
-  for (size_t k = 0; k < joints.size(); ++k) {
-    const int j = joints[k];
-    const ArcFit& f = fits[j - 1];
-    ParameterEstimate p;
-    p.name = "ratio_" + std::to_string(j);
-    p.unit = "";
-    p.nominal = K_start[j - 1];
-    p.value = K[k];
-    p.stddev = u.stddev[k];
-    report->parameters.push_back(p);
-    const double angle_rms = f.tangential_rms / f.radius;
-    per_joint.push_back({{"joint", j},
-                         {"ratio", K[k]},
-                         {"stddev", std::isfinite(u.stddev[k]) ? nlohmann::json(u.stddev[k]) : nlohmann::json(nullptr)},
-                         {"stops", f.stops},
-                         {"arc_deg", f.arc * 180.0 / M_PI},
-                         {"radius_m", f.radius},
-                         {"angle_slope", f.angle_slope},
-                         {"angle_rms_rad", angle_rms},
-                         {"motor_angle_rms_rad", angle_rms * std::abs(K[k])}});
-    report->iterations += f.iterations;
-  }
-  for (int j = 1; j <= n; ++j) {
-    if (sweeps.Swept(j)) continue;
-    ParameterEstimate p;
-    p.name = "ratio_" + std::to_string(j);
-    p.nominal = p.value = K_start[j - 1];
-    p.free = false;
-    p.note = "not swept";
-    report->parameters.push_back(p);
-    report->fixed_parameters.push_back(p.name);
-  }
+  const nlohmann::json per_joint = ReportRatios(joints, fits, K, K_start, u.stddev, report);
   report->details = {
       {"circle_fit", geometric::ToString(options_.arc.circle_fit)},
       {"motor_angle_from", data.HasEncoders() ? "encoder counts" : "commanded angles x controller ratio"},

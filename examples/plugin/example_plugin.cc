@@ -13,8 +13,6 @@
 
 #include "compensators/compensator.h"
 #include "estimators/estimator.h"
-#include "estimators/least_squares/least_squares_estimator.h"
-#include "framework/error.h"
 #include "framework/math.h"
 #include "framework/plugin.h"
 
@@ -77,17 +75,15 @@ class NewtonCompensator final : public kincal::Compensator {
 }  // namespace
 
 KINCAL_PLUGIN(registrar) {
+  // kincal's least_squares, from the plugin's own copy of the registry: the estimator interface
+  // (estimators/estimator.h) is public, the built-in methods' classes are not.
   registrar.AddEstimator("example_least_squares",
                          "example plugin: kincal's least_squares built by a plugin (same options)",
                          [](const YAML::Node& node) -> std::unique_ptr<kincal::Estimator> {
-                           const auto options = kincal::LeastSquaresEstimator::Options::FromYaml(node);
-                           std::string why;
-                           if (!options.IsValid(&why))
-                             throw std::invalid_argument("invalid options: " + kincal::OneLine(why));
-                           return std::make_unique<kincal::LeastSquaresEstimator>(options);
+                           return kincal::Estimators().Create("least_squares", node);
                          },
                          // Its options' documentation, for `kincal methods --options example_least_squares`.
-                         kincal::LeastSquaresEstimator::Options::Table().Docs());
+                         kincal::Estimators().Get("least_squares").options);
   registrar.AddCompensator(
       "example_newton", "example plugin: undamped Newton steps on the 6-D pose error of the identified arm",
       [](const YAML::Node& node) -> std::unique_ptr<kincal::Compensator> {

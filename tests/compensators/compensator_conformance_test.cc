@@ -9,6 +9,7 @@
 
 #include "robot/inverse_kinematics.h"
 #include "framework/math.h"
+#include "testing/compensator_conformance.h"
 #include "tests/compensators/compensator_fixture.h"
 
 namespace kincal {
@@ -52,25 +53,10 @@ class CompensatorConformance : public ::testing::TestWithParam<std::string> {
  protected:
   const Compensator& compensator() const { return Prepared(GetParam()); }
 
-  // What must hold for any result of any method.
+  // What must hold for any result of any method (the installed kit, testing/compensator_conformance.h).
   void CheckInvariants(const CompensationTarget& target, const CompensationResult& r) const {
-    const int n = Arm().identified.dof();
-    ASSERT_EQ(r.q_actual.size(), n);
-    ASSERT_EQ(r.q_command.size(), n);
-    EXPECT_TRUE(r.q_actual.allFinite());
-    EXPECT_TRUE(r.q_command.allFinite());
-    EXPECT_TRUE(std::isfinite(r.report.position_error));
-    EXPECT_TRUE(std::isfinite(r.report.orientation_error));
-    EXPECT_GE(r.report.iterations, 0);
-    EXPECT_EQ(r.report.seed_computed, target.seed.size() == 0);
-    // The reported errors are the identified robot's, at q_actual.
-    const Vector6d e = PoseError(Arm().identified.model().ForwardKinematics(r.q_actual), target.T_meas_tool);
-    EXPECT_NEAR(r.report.position_error, e.head<3>().norm(), 1e-15);
-    EXPECT_NEAR(r.report.orientation_error, target.has_orientation ? e.tail<3>().norm() : 0.0, 1e-15);
-    if (!r.report.position_history.empty()) {
-      EXPECT_EQ(r.report.position_history.size(), static_cast<size_t>(r.report.iterations) + 1);
-      EXPECT_EQ(r.report.orientation_history.size(), r.report.position_history.size());
-    }
+    // The same code computes both: the errors agree to rounding of a few ulp.
+    EXPECT_TRUE(testing::CompensationResultIsConsistent(Arm().identified, target, r, 1e-15));
   }
 };
 

@@ -13,6 +13,7 @@
 #include "estimators/estimator.h"
 #include "robot/prediction.h"
 #include "robot/simulator.h"
+#include "testing/estimator_conformance.h"
 #include "tests/support/test_util.h"
 
 namespace kincal::testing {
@@ -94,8 +95,7 @@ inline SimulatedCase SweepCase(double noise, uint64_t seed) {
 
 // Position errors of `identified` on `poses` fresh random poses of the truth, noise-free.
 inline ErrorStats HeldOutErrors(const SimulatedCase& c, const Robot& identified, int poses, uint64_t seed) {
-  const Dataset test = RandomPoses(c.nominal, c.truth, poses, seed);
-  return EvaluatePredictions(c.nominal, identified, test).position_stats;
+  return testing::HeldOutErrors(c.nominal, c.truth, identified, poses, seed);
 }
 
 // The truth's value of a report parameter (model parameters and ratios).

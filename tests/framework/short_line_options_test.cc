@@ -80,7 +80,8 @@ TEST(OptionsPerMethod, KeyedOrDirectAndOneLineErrors) {
 namespace kincal {
 namespace {
 
-// Median (framework/median.h) against a sort of the finite values, odd and even counts, at random.
+// Median and Quantile (framework/median.h) against a sort of the finite values, odd and even counts, at
+// random.
 TEST(Median, TheMiddleOfTheSortedFiniteValues) {
   EXPECT_TRUE(std::isnan(Median({})));
   EXPECT_TRUE(std::isnan(Median({NAN, INFINITY})));
@@ -95,6 +96,16 @@ TEST(Median, TheMiddleOfTheSortedFiniteValues) {
     std::sort(sorted.begin(), sorted.end());
     const double expected = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
     EXPECT_EQ(Median(v), expected) << n;
+    // Quantile interpolates between ranks: its 0.5 is the median, its ends the extremes, and a quarter of
+    // the way between the ranks k and k + 1 lies a quarter of the gap above rank k.
+    EXPECT_NEAR(Quantile(sorted, 0.5), expected, 1e-15 * 5) << n;
+    EXPECT_EQ(Quantile(sorted, 0.0), sorted.front());
+    EXPECT_EQ(Quantile(sorted, 1.0), sorted.back());
+    if (n > 1) {
+      const int k = n / 3;
+      const double f = (k + 0.25) / (n - 1);
+      EXPECT_NEAR(Quantile(sorted, f), sorted[k] + 0.25 * (sorted[k + 1] - sorted[k]), 1e-14) << n;
+    }
   }
 }
 

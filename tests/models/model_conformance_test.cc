@@ -1,5 +1,5 @@
-// One conformance suite that every model passes (manif MANIF_TEST_JACOBIANS, Sophus LieGroupTests):
-// every analytic derivative against central differences, frame consistency, parameter bookkeeping.
+// One conformance suite that every model passes (manif MANIF_TEST_JACOBIANS, Sophus LieGroupTests): the
+// installed kit's checks (testing/model_conformance.h) and what the kit cannot know of the built-in models.
 #include <gtest/gtest.h>
 
 #include "framework/random.h"
@@ -9,13 +9,14 @@
 #include "models/mdh_model.h"
 #include "models/model_factory.h"
 #include "models/urdf_model.h"
+#include "testing/model_conformance.h"
 #include "tests/support/test_util.h"
 
 namespace kincal {
 namespace {
 
-using testing::CentralDifference;
 using testing::RandomizedModel;
+using testing::RandomJoints;
 
 struct ModelCase {
   std::string label;
@@ -23,84 +24,12 @@ struct ModelCase {
 };
 void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.label; }
 
-class ModelConformance : public ::testing::TestWithParam<ModelCase> {
- protected:
-  Eigen::VectorXd RandomJoints(const KinematicModel& m, uint64_t seed) {
-    Rng rng(seed);
-    Eigen::VectorXd q(m.dof());
-    for (int i = 0; i < m.dof(); ++i) q[i] = rng.Uniform(-3.0, 3.0);
-    return q;
-  }
-};
+class ModelConformance : public ::testing::TestWithParam<ModelCase> {};
 
-// Position of a tool point and a rotation-vector parametrisation of the orientation around R0, so that
-// the finite difference of the orientation is an angular velocity comparable to rows 3-5.
-Eigen::VectorXd PoseVector(const Eigen::Isometry3d& T, const Eigen::Matrix3d& R0, const Eigen::Vector3d& point) {
-  Eigen::VectorXd v(6);
-  v.head<3>() = T * point;
-  v.tail<3>() = RotationLog(T.linear() * R0.transpose());
-  return v;
-}
-
-TEST_P(ModelConformance, JointJacobianMatchesCentralDifferences) {
-  const auto model = GetParam().make();
-  const Eigen::Vector3d point(0.03, -0.02, 0.05);
-  for (uint64_t trial = 0; trial < 5; ++trial) {
-    const Eigen::VectorXd q = RandomJoints(*model, 100 + trial);
-    const Eigen::Matrix3d R0 = model->ForwardKinematics(q).linear();
-    const auto f = [&](const Eigen::VectorXd& x) { return PoseVector(model->ForwardKinematics(x), R0, point); };
-    const Eigen::MatrixXd numeric = CentralDifference(f, q);
-    const Eigen::MatrixXd analytic = model->JointJacobian(q, point);
-    EXPECT_LT((numeric - analytic).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
-  }
-}
-
-TEST_P(ModelConformance, ParameterJacobianMatchesCentralDifferences) {
-  auto model = GetParam().make();
-  const Eigen::Vector3d point(-0.01, 0.04, 0.02);
-  for (uint64_t trial = 0; trial < 5; ++trial) {
-    const Eigen::VectorXd q = RandomJoints(*model, 200 + trial);
-    const Eigen::VectorXd p0 = model->Parameters();
-    const Eigen::Matrix3d R0 = model->ForwardKinematics(q).linear();
-    auto probe = model->Clone();
-    const auto f = [&](const Eigen::VectorXd& p) {
-      probe->SetParameters(p);
-      return PoseVector(probe->ForwardKinematics(q), R0, point);
-    };
-    const Eigen::MatrixXd numeric = CentralDifference(f, p0);
-    Matrix6Xd analytic;
-    const Eigen::Isometry3d T = model->ParameterJacobian(q, point, &analytic);
-    EXPECT_LT((numeric - analytic).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
-    EXPECT_TRUE(T.isApprox(model->ForwardKinematics(q), 1e-14));
-  }
-}
-
-TEST_P(ModelConformance, PoseDerivativesMatchCentralDifferences) {
-  const auto model = GetParam().make();
-  const Eigen::VectorXd q = RandomJoints(*model, 300);
-  const std::vector<Eigen::Matrix4d> dT = model->PoseDerivatives(q);
-  ASSERT_EQ(static_cast<int>(dT.size()), model->dof());
-  for (int i = 0; i < model->dof(); ++i) {
-    Eigen::VectorXd qp = q, qm = q;
-    const double h = 1e-6;
-    qp[i] += h;
-    qm[i] -= h;
-    const Eigen::Matrix4d numeric =
-        (model->ForwardKinematics(qp).matrix() - model->ForwardKinematics(qm).matrix()) / (2 * h);
-    EXPECT_LT((numeric - dT[i]).cwiseAbs().maxCoeff(), 1e-8) << "joint " << i + 1;
-    EXPECT_EQ(dT[i].row(3), Eigen::RowVector4d::Zero());
-  }
-}
-
-TEST_P(ModelConformance, FramePosesEndAtForwardKinematics) {
-  const auto model = GetParam().make();
-  const Eigen::VectorXd q = RandomJoints(*model, 400);
-  const auto frames = model->FramePoses(q);
-  ASSERT_EQ(static_cast<int>(frames.size()), model->dof() + 2);
-  EXPECT_TRUE(frames.back().isApprox(model->ForwardKinematics(q), 1e-13));
-  EXPECT_TRUE(frames.front().isApprox(model->base(), 1e-13));
-  for (const auto& T : frames)
-    EXPECT_NEAR((T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm(), 0, 1e-13);
+// The checks of the installed kit (testing/model_conformance.h): joint, parameter and pose derivatives
+// against central differences, frames, base and tool, parameter round trips.
+TEST_P(ModelConformance, PassesTheConformanceKit) {
+  testing::ExpectModelConforms(*GetParam().make(), 100, 5);
 }
 
 TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
@@ -123,33 +52,11 @@ TEST_P(ModelConformance, JointAxesAreFrameZAxes) {
   }
 }
 
-TEST_P(ModelConformance, BaseAndToolRoundTrip) {
-  auto model = GetParam().make();
-  const Eigen::Isometry3d base = PoseFromXyzRpy({0.1, -0.2, 0.3}, {0.3, -0.4, 1.2});
-  const Eigen::Isometry3d tool = PoseFromXyzRpy({0.01, 0.02, 0.03}, {-0.1, 0.2, -0.3});
-  const Eigen::VectorXd q = RandomJoints(*model, 600);
-  const Eigen::Isometry3d before = model->base().inverse() * model->ForwardKinematics(q) * model->tool().inverse();
-  model->SetBase(base);
-  model->SetTool(tool);
-  EXPECT_TRUE(model->base().isApprox(base, 1e-14));
-  EXPECT_TRUE(model->tool().isApprox(tool, 1e-14));
-  EXPECT_TRUE(model->ForwardKinematics(q).isApprox(base * before * tool, 1e-12));
-}
-
-TEST_P(ModelConformance, ParametersByName) {
-  auto model = GetParam().make();
-  const auto names = model->ParameterNames();
-  EXPECT_EQ(static_cast<int>(names.size()), static_cast<int>(model->RowKeys().size()) * model->dof() + 12);
-  const std::string name = names[5];
-  model->SetParameter(name, 0.25);
-  EXPECT_EQ(model->Parameter(name), 0.25);
-  EXPECT_THROW(model->ParameterIndex("a_99"), std::invalid_argument);
-  const std::string joint_name = model->FindParameter("theta_1") >= 0 ? "theta_1" : names[0];
-  model->SetFree(joint_name, false);
-  EXPECT_FALSE(model->FreeMask()[model->ParameterIndex(joint_name)]);
-  const auto clone = model->Clone();
-  EXPECT_EQ(clone->Parameters(), model->Parameters());
-  EXPECT_EQ(clone->FreeMask(), model->FreeMask());
+// One row of parameters per joint (RowKeys) plus the base's and the tool's six each.
+TEST_P(ModelConformance, ParametersAreRowsPerJointPlusBaseAndTool) {
+  const auto model = GetParam().make();
+  EXPECT_EQ(static_cast<int>(model->ParameterNames().size()),
+            static_cast<int>(model->RowKeys().size()) * model->dof() + 12);
 }
 
 // Converting any model to local POE keeps its forward kinematics for every q.

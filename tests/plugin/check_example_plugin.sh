@@ -2,8 +2,8 @@
 # The example plugin (examples/plugin) built from outside the source tree against an installed kincal,
 # then run by the installed `kincal`: listed by `methods`; example_least_squares (kincal's least_squares
 # built by the plugin) identifies the same robot to the last digit alone, after least_squares in a
-# pipeline and in a study beside the built-in estimators; example_newton reaches the joints of the
-# built-in `jacobian` compensator; a name taken, a missing file, a library without the entry point and a
+# pipeline and in a study beside the built-in estimators; the plugin's own test (the conformance kits)
+# passes; a name taken, a missing file, a library without the entry point and a
 # plugin built against another version: exit 2, one line.
 #   tests/plugin/check_example_plugin.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
@@ -18,6 +18,11 @@ fail() { echo "check_example_plugin: $*" >&2; exit 1; }
 cmake --install "$BUILD" --component Unspecified --prefix "$WORK/prefix" >/dev/null
 cmake -S "$SRC/examples/plugin" -B "$WORK/plugin" $GEN -DCMAKE_PREFIX_PATH="$WORK/prefix" >/dev/null
 cmake --build "$WORK/plugin" >/dev/null
+# The plugin's own test on the installed conformance kits: example_least_squares recovers a simulated
+# truth, example_newton reaches the targets the identified arm reaches, on jacobian's joints.
+[ -x "$WORK/plugin/kincal_example_plugin_test" ] || fail "the plugin's test was not built (GoogleTest not found?)"
+"$WORK/plugin/kincal_example_plugin_test" --gtest_brief=1 >"$WORK/plugin_test.txt" 2>&1 \
+  || { cat "$WORK/plugin_test.txt" >&2; fail "the plugin's own test"; }
 K="$WORK/prefix/bin/kincal"
 P="$WORK/plugin/libkincal_example_plugin.so"
 R="$SRC/examples/robots"
@@ -81,46 +86,6 @@ with open(f"{sys.argv[1]}/results.csv") as f:
 jac = [row for row in r if row["compensator"] == "jacobian"]
 new = [row for row in r if row["compensator"] == "example_newton"]
 assert len(jac) == len(new) == 2 and all(int(n["converged"]) >= 18 for n in new), [n["converged"] for n in new]
-PY
-
-# example_newton and jacobian on targets the identified arm reaches (its forward kinematics).
-python3 - "$K" "$R/seed_identified.yaml" >targets.csv <<'PY'
-import json, math, random, subprocess, sys
-random.seed(11)
-print("x_mm,y_mm,z_mm,qw,qx,qy,qz")
-for _ in range(10):
-    q = [random.uniform(-60, 60) for _ in range(6)]
-    T = json.loads(subprocess.check_output([sys.argv[1], "fk", sys.argv[2], "--q", ",".join(map(str, q))]))["T"]
-    m = [[T[i][j] for j in range(3)] for i in range(3)]
-    w = math.sqrt(max(0.0, 1 + m[0][0] + m[1][1] + m[2][2])) / 2
-    x = math.copysign(math.sqrt(max(0.0, 1 + m[0][0] - m[1][1] - m[2][2])) / 2, m[2][1] - m[1][2])
-    y = math.copysign(math.sqrt(max(0.0, 1 - m[0][0] + m[1][1] - m[2][2])) / 2, m[0][2] - m[2][0])
-    z = math.copysign(math.sqrt(max(0.0, 1 - m[0][0] - m[1][1] + m[2][2])) / 2, m[1][0] - m[0][1])
-    print(",".join(repr(v) for v in (T[0][3], T[1][3], T[2][3], w, x, y, z)))
-PY
-for m in jacobian example_newton; do
-  "$K" compensate --plugin "$P" --nominal "$R/seed_nominal.yaml" --identified "$R/seed_identified.yaml" \
-    --targets targets.csv --method $m --out $m.csv >/dev/null
-done
-python3 - <<'PY' || fail "example_newton's joints differ from jacobian's"
-import csv
-def load(name):
-    with open(name) as f:
-        return list(csv.DictReader(f))
-a, b = load("jacobian.csv"), load("example_newton.csv")
-assert len(a) == len(b) == 10
-# Both reach every target to 1e-9 mm; the seed arm has several solutions per pose, and jacobian's branch
-# restarts may take another than Newton's from the same seed: where they agree within a degree, they are
-# the same solution and must agree to rounding.
-same = 0
-for ra, rb in zip(a, b):
-    assert ra["status"] == rb["status"] == "converged", (ra["status"], rb["status"])
-    assert float(rb["position_error_mm"]) < 1e-9
-    d = max(abs(float(ra[k]) - float(rb[k])) for k in ra if k.startswith("q") and k.endswith("_deg"))
-    if d < 1.0:
-        assert d < 1e-6, d
-        same += 1
-assert same >= 7, same
 PY
 
 # The same plugin in the Python module (its own static copy of kincal, its own registries), when built.

@@ -1,5 +1,6 @@
 #pragma once
-// Shared test helpers: example robots, central differences, temporary folders, running the CLI.
+// Shared test helpers: example robots, temporary folders, running the CLI (central differences: the
+// installed model conformance kit, testing/model_conformance.h).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "robot/robot.h"
 #include "robot/robot_file.h"
 #include "robot/simulator.h"
+#include "testing/model_conformance.h"  // CentralDifference, RandomJoints
 
 namespace kincal::testing {
 
@@ -62,20 +64,6 @@ inline Dataset WithPositionNoise(Dataset data, double sigma, uint64_t seed) {
   Rng rng(seed);
   for (auto& m : data.rows) m.p += sigma * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
   return data;
-}
-
-// Central difference of a vector function f: R^n -> R^m at x with step h: (f(x + h e_i) - f(x - h e_i)) / 2h.
-inline Eigen::MatrixXd CentralDifference(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
-                                         const Eigen::VectorXd& x, double h = 1e-6) {
-  const Eigen::VectorXd f0 = f(x);
-  Eigen::MatrixXd J(f0.size(), x.size());
-  for (int i = 0; i < x.size(); ++i) {
-    Eigen::VectorXd xp = x, xm = x;
-    xp[i] += h;
-    xm[i] -= h;
-    J.col(i) = (f(xp) - f(xm)) / (2 * h);
-  }
-  return J;
 }
 
 // A fresh empty folder under the system temp dir, removed by the destructor.
