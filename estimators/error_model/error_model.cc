@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "estimators/error_model/scale_hold.h"
 #include "estimators/error_model/start_placement.h"
 
 namespace kincal {
@@ -16,29 +17,6 @@ nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 }  // namespace
 
 namespace {
-
-// A point or a distance is a length; a contact with a plane or a socket whose place is unknown is not:
-// the arm and its fixtures scaled together about the base touch as before, and the residuals scale with
-// them, so without a length the cost falls to zero with a zero-sized arm. Such data fix no scale, and the
-// arm's longest link length (its start value) sets it. Priors on the lengths set it too, as does any
-// fixture that is known or has a prior.
-std::string LengthToHoldForScale(const Robot& start, const Dataset& data, const ErrorModelOptions& options,
-                                 const ErrorModelProblem& problem) {
-  if (options.prior.enabled) return "";
-  for (const Measurement& m : data.rows) {
-    if (m.kind == MeasurementKind::kPoint || m.kind == MeasurementKind::kDistance) return "";
-  }
-  for (const Fixture& f : start.fixtures.items) {
-    if (f.known || f.sd > 0.0) return "";
-  }
-  std::string longest;
-  double size = 0.0;
-  for (const ErrorModelParameter& p : problem.parameters()) {
-    if (p.group != ErrorModelParameter::Group::kJoint || p.kind != ErrorModelParameter::Kind::kLength) continue;
-    if (std::abs(p.start) > size) size = std::abs(p.start), longest = p.name;
-  }
-  return longest;
-}
 
 // Builds the problem with every structurally free parameter from prep->start, analyses identifiability
 // at its start (the data alone) and holds what the data cannot determine, then prep->weak_held. Prior
@@ -60,7 +38,7 @@ void AnalyzeAndHold(const Robot& controller, const Dataset& data, const ErrorMod
   // One at a time, each with its reason: indices refer to `structural`, so map each by name.
   for (size_t k = 0; k < a.unidentifiable.size(); ++k) hold(a.unidentifiable_names[k], a.reasons[k]);
   for (const auto& [name, reason] : prep->weak_held) hold(name, reason);
-  const std::string scale = LengthToHoldForScale(prep->start, data, options, held);
+  const std::string scale = LengthToHoldForScale(held, data, options);
   if (!scale.empty()) hold(scale, "the data carry no length (contacts with unknown fixtures): it sets the scale");
   if (previous) {
     held.InheritPriors(*previous);

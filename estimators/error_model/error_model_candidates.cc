@@ -211,7 +211,7 @@ void ErrorModelProblem::HoldFixedByOptions(std::map<std::string, std::string>* r
           (p.group == Group::kJoint && name == "joint_" + std::to_string(p.joint + 1)) ||
           (p.group == Group::kJointError && (name == "joint_errors" || p.name.rfind(name + "_", 0) == 0));
       if (group_match || p.name == name) {
-        reasons->emplace(p.name, "fixed by the options");
+        reasons->emplace(p.name, kFixedByOptions);
         matched = true;
       }
     }

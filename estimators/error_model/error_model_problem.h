@@ -164,6 +164,9 @@ struct ParameterBlock {
   int size = 0;
 };
 
+// The reason of a parameter held because the options' `fixed` names it.
+inline constexpr char kFixedByOptions[] = "fixed by the options";
+
 struct HeldParameter {
   ErrorModelParameter parameter;
   std::string reason;

@@ -11,6 +11,7 @@
 #include "estimators/error_model/error_model.h"
 #include "estimators/estimator.h"
 #include "framework/random.h"
+#include "robot/instrument_scoring.h"
 #include "robot/prediction.h"
 #include "robot/simulator.h"
 #include "tests/support/test_util.h"
@@ -304,6 +305,68 @@ TEST_P(KindsAgreement, TheFourEstimatorsReachOneMinimum) {
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, KindsAgreement,
                          ::testing::Values("distance", "plane", "fixed_point", "partial_point"));
+
+// The planes criterion: a simulated IRB 120 (examples/robots/irb120_as_measured.yaml the truth,
+// irb120_placed.yaml the nominal arm standing where it does) touching three planes, 60 contacts each,
+// 10 um scatter along the normals. Contacts fix no length (scale_hold.h): the planes given in the arm's
+// frame (the robot file's fixtures, the base's place held) set the scale. Scored like the arms calibrated
+// from distances: the distances between the points of 100 random configurations, identified arm against
+// the truth, within 5 % of the nominal arm's error; a tracker's points at the same poses reach 1 %. With
+// nothing given, or the three planes given but the base free (they meet in a point, about which the arm
+// and base still scale: without a hold the fit shrinks the arm into the corner), the longest link is held
+// at its nominal length.
+TEST(MeasurementKinds, PlaneContactsWithGivenPlanesRecoverTheDistancesOfTheIrb120) {
+  const Robot nominal = testing::LoadExampleRobot("irb120_placed.yaml");
+  const Robot truth = testing::LoadExampleRobot("irb120_as_measured.yaml");
+  SimulatorOptions o;
+  o.protocol = "random";
+  o.poses = 180;
+  o.noise_sigma = 10e-6;
+  o.instrument.instrument = "plane";
+  o.instrument.fixtures = 3;
+  o.seed = 3;
+  const Dataset planes = Simulate(nominal, truth, o);
+  ASSERT_EQ(planes.rows.size(), 180u);
+  SimulatorOptions random;
+  random.protocol = "random";
+  random.poses = 100;
+  random.seed = 99;
+  const Dataset configurations = Simulate(nominal, truth, random);
+  Dataset tracker = planes;
+  const std::vector<Eigen::Vector3d> p = PredictMarkers(nominal, truth, planes);
+  Rng rng(7);
+  for (size_t i = 0; i < tracker.rows.size(); ++i) {
+    Measurement& m = tracker.rows[i];
+    m.kind = MeasurementKind::kPoint;
+    m.fixture.clear();
+    m.p = p[i] + 10e-6 * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+  }
+  Robot given = nominal;
+  given.fixtures.items = InstrumentFixtures(nominal, truth, o.instrument, "", o.seed);
+  for (Fixture& f : given.fixtures.items) f.known = true;
+  const double before = PairwiseDistanceErrors(nominal, nominal, configurations).rms;
+  const auto ratio = [&](const Robot& start, const Dataset& data, const char* options) {
+    Robot identified;
+    const EstimationReport report =
+        Estimators().Create("least_squares", YAML::Load(options))->Estimate(start, data, &identified);
+    EXPECT_EQ(report.status, EstimationStatus::kConverged) << report.BriefReport();
+    return PairwiseDistanceErrors(nominal, identified, configurations).rms / before;
+  };
+  const double tracker_ratio = ratio(nominal, tracker, "{}");
+  const double planes_ratio = ratio(given, planes, "{fixed: [base], initialize_bases: false}");
+  const double held_ratio = ratio(nominal, planes, "{}");
+  std::printf("distances between random points, RMS error over the nominal arm's (%.4f mm): tracker %.4f, given "
+              "planes %.4f, unknown planes (longest link held) %.4f\n",
+              before * 1e3, tracker_ratio, planes_ratio, held_ratio);
+  EXPECT_LE(tracker_ratio, 0.01);
+  EXPECT_LE(planes_ratio, 0.05);
+  ErrorModelOptions free_base, held_base;
+  held_base.fixed = {"base"};
+  held_base.initialize_bases = false;
+  EXPECT_TRUE(Contains(HeldNames(PrepareErrorModel(nominal, nominal, planes, free_base)), "d_4"));  // 302 mm
+  EXPECT_TRUE(Contains(HeldNames(PrepareErrorModel(given, nominal, planes, free_base)), "d_4"));
+  EXPECT_FALSE(Contains(HeldNames(PrepareErrorModel(given, nominal, planes, held_base)), "d_4"));
+}
 
 TEST(MeasurementKinds, FixtureRowsOutsideSessionZeroAreRefused) {
   KindsCase c = RandomCase(40, 11);
