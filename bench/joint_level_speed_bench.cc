@@ -23,6 +23,7 @@
 #include "estimators/selection/selection_audit.h"
 #include "robot/prediction.h"
 #include "robot/robot_file.h"
+#include "bench/ur10_series_a.h"
 #include "tests/estimators/ur10_ipa2021.h"
 
 namespace kincal {
@@ -47,13 +48,7 @@ double TimeFit(const Robot& start, const Dataset& train, const YAML::Node& optio
 
 void BM_JointLevelSeriesA(benchmark::State& state) {
   Dataset all;
-  if (!testing::LoadUr10Series(testing::SharedDataPath("ur10_ipa2021/Series_A/measurements_grid.csv"), &all)) {
-    const char* required = std::getenv("KINCAL_REQUIRE_DATA");
-    state.SkipWithError(required != nullptr && std::string(required) == "1"
-                            ? "KINCAL_REQUIRE_DATA=1 and ../shared/data/ur10_ipa2021 is missing"
-                            : "no ../shared/data/ur10_ipa2021");
-    return;
-  }
+  if (!bench::LoadSeriesAOrSkip(state, &all)) return;
   std::vector<int> even, odd;
   for (size_t i = 0; i < all.rows.size(); ++i) (i % 2 == 0 ? even : odd).push_back(static_cast<int>(i));
   if (smoke) {

@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "estimators/estimator.h"
+#include "bench/ur10_series_a.h"
 #include "tests/estimators/ur10_ipa2021.h"
 
 namespace kincal {
@@ -18,14 +19,7 @@ namespace {
 
 void BM_SelectSeriesA(benchmark::State& state) {
   Dataset all;
-  if (!testing::LoadUr10Series(testing::SharedDataPath("ur10_ipa2021/Series_A/measurements_grid.csv"), &all)) {
-    // The ctest smoke run (bench/CMakeLists.txt) reads "no ../shared/data" as skipped, anything else as failed.
-    const char* required = std::getenv("KINCAL_REQUIRE_DATA");
-    state.SkipWithError(required != nullptr && std::string(required) == "1"
-                            ? "KINCAL_REQUIRE_DATA=1 and ../shared/data/ur10_ipa2021 is missing"
-                            : "no ../shared/data/ur10_ipa2021");
-    return;
-  }
+  if (!bench::LoadSeriesAOrSkip(state, &all)) return;
   std::vector<int> even;
   for (size_t i = 0; i < all.rows.size(); i += 2) even.push_back(static_cast<int>(i));
   const Dataset train = all.SelectRows(even);
