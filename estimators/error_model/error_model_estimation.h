@@ -36,9 +36,9 @@ namespace kincal {
 struct ErrorModelEstimatorOptions {
   ErrorModelOptions error_model;    // error_model_problem.h
   RowWeightingOptions weighting;    // robust loss and per-row weights (keys loss, loss_scale, weights)
-  ModelSelectionOptions selection;  // keys select, select_folds (estimators/selection/model_selection.h)
+  ModelSelectionOptions selection;  // keys select, select_folds, cross_validate (selection/model_selection.h)
 
-  // The keys of both (see above); each estimator's table includes this one before its own keys.
+  // The keys of the three tables above; each estimator's table includes this one before its own keys.
   static const OptionTable<ErrorModelEstimatorOptions>& Table();
   bool IsValid(std::string* why) const;
 };

@@ -32,10 +32,9 @@
 // tau depends on the row in the one way the folds measure: the rows beyond the fold's training range on
 // joint j (the joint-range rule below, kJointMargin) give tau_j, the rows within range on every joint give
 // tau; a row gets the largest of tau and the tau_j of the joints it lies beyond the training range on.
-// The CV data call for it: on fanuc_boby2021 the fold that holds out the joint-2 sweep's middle and end
-// predicts its 34 deg stop 1.3 mm off (geometry; sd_k 0.18 mm), while the rows within range match their
-// bound; pooled, the many precise rows within range (and beyond the range of other joints) outweigh the
-// few beyond joint 2's, and the 16 deg extrapolation of the final fit would keep its 1.9 mm miss. What the model lacks (compliance)
+// The real data call for it (docs/guide/real_data.md): a fold that holds out the end of a joint's sweep
+// predicts its stop far outside the bound while the rows within range match theirs; pooled, the many
+// precise rows within range outweigh the few beyond it. What the model lacks (compliance)
 // grows where the training poses do not reach, and on the joint that leaves its range. Finer laws (tau
 // growing with the distance) would rest on the few rows each fold holds beyond its range; per joint and
 // within/beyond is what they support. Neither the support flags nor the fitted parameters change.
@@ -53,8 +52,7 @@
 // (3: a pose whose prediction is three times less certain than a typical training pose), or when one of
 // its joint readings lies more than kJointMargin beyond the range the training rows covered on that
 // joint. The second rule sees what the covariance cannot: a model's sd grows slowly outside the training
-// range, while what the model lacks need not (fanuc_boby2021: the joint-2 stop 16 deg beyond the trained
-// stops is 1.9 mm off with an sd of 0.19 mm, the arm's compliance).
+// range, while what the model lacks need not (docs/guide/methods.md gives the case).
 #include <cmath>
 #include <string>
 #include <vector>

@@ -71,7 +71,7 @@ struct ModelSelectionOptions {
   // model-inadequacy tau of the predicted sd (prediction_uncertainty.h (3)); `select` always measures it.
   bool cross_validate = false;
 
-  // Keys select, select_folds.
+  // The keys select, select_folds and cross_validate.
   static const OptionTable<ModelSelectionOptions>& Table();
   bool IsValid(std::string* why) const;
 };
