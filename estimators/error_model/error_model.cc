@@ -176,25 +176,7 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
 void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
                PreparedErrorModel* prep, Eigen::VectorXd* x) {
   prep->problem->set_prior_noise(prior_noise);
-  PreparedErrorModel next = RebuiltAt(solution, weighting, *prep);
-  // As in ReanalyzeIdentifiability: link geometry the data determined is not handed to the joint-level
-  // terms because a solution drifted along their near-null directions; the analysis of the start stays.
-  std::string held;
-  for (const auto& name : next.identifiability.unidentifiable_names) {
-    const auto& before = prep->identifiability.unidentifiable_names;
-    if (std::find(before.begin(), before.end(), name) != before.end()) continue;
-    for (const auto& c : prep->problem->candidates()) {
-      if (c.name == name && c.group == ErrorModelParameter::Group::kJoint) held += " " + name;
-    }
-  }
-  if (!held.empty()) {
-    const std::string note = "identifiability re-analysed at a restart would hold" + held + ": kept as analysed";
-    if (std::find(prep->warnings.begin(), prep->warnings.end(), note) == prep->warnings.end())
-      prep->warnings.push_back(note);
-    *x = solution;
-    return;
-  }
-  *prep = std::move(next);
+  *prep = RebuiltAt(solution, weighting, *prep);
   *x = prep->problem->InitialX();
 }
 
