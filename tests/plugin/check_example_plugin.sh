@@ -5,26 +5,23 @@
 # pipeline and in a study beside the built-in estimators; the plugin's own test (the conformance kits)
 # passes; a name taken, a missing file, a library without the entry point and a
 # plugin built against another version: exit 2, one line.
-#   tests/plugin/check_example_plugin.sh SOURCE_DIR BUILD_DIR
+# The install and both plugins' builds are build_plugins.sh's (the ctest fixture kincal_plugins), in PLUGINS.
+#   tests/plugin/check_example_plugin.sh SOURCE_DIR BUILD_DIR PLUGINS
 set -euo pipefail
 SRC="$(realpath "$1")"
 BUILD="$(realpath "$2")"
+PLUGINS="$(realpath "$3")"
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
-GEN=""
-if command -v ninja >/dev/null; then GEN="-G Ninja"; fi
 fail() { echo "check_example_plugin: $*" >&2; exit 1; }
-
-cmake --install "$BUILD" --component Unspecified --prefix "$WORK/prefix" >/dev/null
-cmake -S "$SRC/examples/plugin" -B "$WORK/plugin" $GEN -DCMAKE_PREFIX_PATH="$WORK/prefix" >/dev/null
-cmake --build "$WORK/plugin" >/dev/null
+[ -d "$PLUGINS/plugin" ] && [ -d "$PLUGINS/learned" ] || fail "no plugins in $PLUGINS (build_plugins.sh first)"
 # The plugin's own test on the installed conformance kits: example_least_squares recovers a simulated
 # truth, example_newton reaches the targets the identified arm reaches, on jacobian's joints.
-[ -x "$WORK/plugin/kincal_example_plugin_test" ] || fail "the plugin's test was not built (GoogleTest not found?)"
-"$WORK/plugin/kincal_example_plugin_test" --gtest_brief=1 >"$WORK/plugin_test.txt" 2>&1 \
+[ -x "$PLUGINS/plugin/kincal_example_plugin_test" ] || fail "the plugin's test was not built (GoogleTest not found?)"
+"$PLUGINS/plugin/kincal_example_plugin_test" --gtest_brief=1 >"$WORK/plugin_test.txt" 2>&1 \
   || { cat "$WORK/plugin_test.txt" >&2; fail "the plugin's own test"; }
-K="$WORK/prefix/bin/kincal"
-P="$WORK/plugin/libkincal_example_plugin.so"
+K="$PLUGINS/prefix/bin/kincal"
+P="$PLUGINS/plugin/libkincal_example_plugin.so"
 R="$SRC/examples/robots"
 cd "$WORK"
 
@@ -105,11 +102,9 @@ else
   echo "check_example_plugin: the Python module is not built; its part skipped"
 fi
 
-# The learned residual plugin builds the same way and is listed beside the example's (tested in
+# The learned residual plugin (built the same way) is listed beside the example's (tested in
 # learned_residual_test).
-cmake -S "$SRC/examples/plugins/learned_residual" -B "$WORK/learned" $GEN -DCMAKE_PREFIX_PATH="$WORK/prefix" >/dev/null
-cmake --build "$WORK/learned" >/dev/null
-"$K" --plugin "$P" --plugin "$WORK/learned/libkincal_learned_residual.so" methods | grep -q "learned_residual" \
+"$K" --plugin "$P" --plugin "$PLUGINS/learned/libkincal_learned_residual.so" methods | grep -q "learned_residual" \
   || fail "the learned residual plugin is not listed"
 
 # Refusals: exit 2 and one line each.
@@ -135,7 +130,7 @@ cat >other_version.cc <<'CXX'
 KINCAL_PLUGIN(registrar) { (void)registrar; }
 CXX
 # framework/plugin.h declares the model registrations, whose interface is Eigen's: its headers too.
-c++ -std=c++17 -shared -fPIC -I"$WORK/prefix/include/kincal" $(pkg-config --cflags eigen3) other_version.cc \
+c++ -std=c++17 -shared -fPIC -I"$PLUGINS/prefix/include/kincal" $(pkg-config --cflags eigen3) other_version.cc \
   -o other_version.so
 expect_refusal "another version" "built against kincal 0.0.1-other, this is kincal" "$K" --plugin other_version.so methods
 echo "check_example_plugin: ok"
