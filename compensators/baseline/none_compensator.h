@@ -12,13 +12,12 @@ class NoneCompensator final : public Compensator {
     bool IsValid(std::string* /*why*/) const { return true; }
     static Options FromYaml(const YAML::Node& node) { return Table().Read(node); }
   };
-  explicit NoneCompensator(const Options& options = Options()) : options_(options) {}
+  explicit NoneCompensator(const Options& /*options: none*/ = Options()) {}
   std::string name() const override { return "none"; }
 
  private:
   void DoCompensate(const CompensationTarget& target, const Eigen::VectorXd& seed,
                     CompensationResult* result) const override;
-  Options options_;
 };
 
 }  // namespace kincal

@@ -12,13 +12,12 @@ class NoneEstimator final : public Estimator {
     bool IsValid(std::string* /*why*/) const { return true; }
     static Options FromYaml(const YAML::Node& node) { return Table().Read(node); }
   };
-  explicit NoneEstimator(const Options& options = Options()) : options_(options) {}
+  explicit NoneEstimator(const Options& /*options: none*/ = Options()) {}
   std::string name() const override { return "none"; }
 
  private:
   void DoEstimate(const Robot& start, const Robot& controller, const Dataset& data, Robot* identified,
                   EstimationReport* report) const override;
-  Options options_;
 };
 
 }  // namespace kincal
