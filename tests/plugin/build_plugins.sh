@@ -13,8 +13,13 @@ if command -v ninja >/dev/null; then GEN="-G Ninja"; fi
 rm -rf "$OUT"
 mkdir -p "$OUT"
 cmake --install "$BUILD" --component Unspecified --prefix "$OUT/prefix" >/dev/null
-cmake -S "$SRC/examples/plugin" -B "$OUT/plugin" $GEN -DCMAKE_PREFIX_PATH="$OUT/prefix" >/dev/null
+# The plugins are compiled by the compiler that compiled kincal (each links its own copy of the static
+# libraries, with that compiler's copies of the inline templates).
+CXX_OF_BUILD="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
+cmake -S "$SRC/examples/plugin" -B "$OUT/plugin" $GEN -DCMAKE_CXX_COMPILER="$CXX_OF_BUILD" \
+  -DCMAKE_PREFIX_PATH="$OUT/prefix" >/dev/null
 cmake --build "$OUT/plugin" >/dev/null
-cmake -S "$SRC/examples/plugins/learned_residual" -B "$OUT/learned" $GEN -DCMAKE_PREFIX_PATH="$OUT/prefix" >/dev/null
+cmake -S "$SRC/examples/plugins/learned_residual" -B "$OUT/learned" $GEN -DCMAKE_CXX_COMPILER="$CXX_OF_BUILD" \
+  -DCMAKE_PREFIX_PATH="$OUT/prefix" >/dev/null
 cmake --build "$OUT/learned" >/dev/null
 echo "build_plugins: $OUT"
