@@ -117,6 +117,8 @@ const OptionTable<DoctorOptions>& DoctorOptions::Table() {
           .Add("tie", &O::tie, "repairs within this factor of the best one's RMS are named as alternatives",
                Between(1.0, 2.0, false, false))
           .Add("max_rows", &O::max_rows, "rows the hypotheses are fitted on (evenly spaced) in larger files", AtLeast(20))
+          .Add("jump_candidates", &O::jump_candidates,
+               "change points per session (the likeliest, far apart) scored as repairs of a jumped frame", AtLeast(1))
           .Add("rounds", &O::rounds, "repairs found one after the other, each on the data repaired so far", AtLeast(1));
   return table;
 }
@@ -125,7 +127,9 @@ nlohmann::json FindingsToJson(const std::vector<Finding>& findings, double rms_a
   nlohmann::json out = {{"rms_as_given_mm", rms_as_given * kMm}, {"findings", nlohmann::json::array()}};
   for (const Finding& f : findings) {
     nlohmann::json alternatives = nlohmann::json::array();
-    for (const auto& a : f.alternatives) alternatives.push_back({{"cause", a.cause}, {"joints", a.joints}});
+    for (const auto& a : f.alternatives) {
+      alternatives.push_back({{"cause", a.cause}, {"joints", a.joints}, {"rms_repaired_mm", a.rms_repaired * kMm}});
+    }
     out["findings"].push_back({{"cause", f.cause},
                                {"alternatives", alternatives},
                                {"joints", f.joints},
