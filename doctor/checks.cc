@@ -59,7 +59,7 @@ std::vector<Finding> CheckTool(const Robot& robot, const Dataset& data, const Do
   const double given = FitCheap(robot, sample, held).score;
   if (!ClearlyBetter(given, free.score, o)) return {};
   Finding f{"tool", {}, {}, message + " in the tool frame: correct the robot file's tool or markers", given,
-            free.score};
+            free.score, {}};
   return {f};
 }
 
@@ -84,7 +84,7 @@ std::vector<Finding> CheckOutliers(const Robot& robot, const Dataset& data, cons
   char buffer[160];
   std::snprintf(buffer, sizeof buffer, "%zu rows lie more than %.1f mm (%.0f x the median) from the fit: remove or re-measure them",
                 lines.size(), threshold * kMm, o.outlier_factor);
-  return {{"outliers", {}, lines, buffer, TrimmedRms(r, 1.0), repaired}};
+  return {{"outliers", {}, lines, buffer, TrimmedRms(r, 1.0), repaired, {}}};
 }
 
 std::vector<Finding> CheckStill(const Robot& robot, const Dataset& data, const DoctorOptions& o) {
@@ -96,7 +96,7 @@ std::vector<Finding> CheckStill(const Robot& robot, const Dataset& data, const D
     out.push_back({"joint_not_moved", {j + 1}, {}, "joint " + std::to_string(j + 1) +
                        " never moved (its values span less than " + std::to_string(o.still_range * 180 / M_PI).substr(0, 4) +
                        " deg): its parameters cannot be identified from these data; move it",
-                   score, score});
+                   score, score, {}});
   }
   return out;
 }
