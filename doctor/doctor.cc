@@ -79,11 +79,11 @@ std::vector<Repair> ColumnRepairs(const Dataset& data, const std::set<int>& stil
 }
 
 // The rows (indices into `r`, the likeliest first, at most `count`, `min_segment` apart) from which the
-// residuals take a rigid motion of their own: a change point of a
-// small rotation and translation of the measurement frame, r_i ~ w x (p_i - c) + t on each side, fitted by
-// least squares (a jump of the instrument turns it as well as shifts it, and a turn leaves a residual that
-// grows with the distance from the centre: no mean shift). Each segment has at least `min_segment` rows.
-// Several candidates, each a repair the cheap fit scores: an arm whose nominal geometry errs differently
+// residuals take a rigid motion of their own: on each side a small rotation and translation of the
+// measurement frame, r_i ~ w x (p_i - c) + t, fitted by least squares (a bumped instrument turns as well
+// as shifts, and a turn leaves residuals that grow with the distance from the centre and shift their
+// mean by little). Each segment has at least `min_segment` rows. Several candidates, each a repair the
+// cheap fit scores: an arm whose nominal geometry errs differently
 // in two parts of its workspace leaves a step of its own where the poses change region, which a linear
 // statistic may rank above a real jump and the fit does not.
 std::vector<int> ChangePoints(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Vector3d>& p,
@@ -180,9 +180,10 @@ int RowsOutsideLimits(const Robot& robot, const Dataset& data, double slack) {
 // those, only the ones that keep the most rows within the joint limits: a repair that puts the real arm
 // where it cannot go is not an equal explanation (a reversed first joint and a second joint's zero half a
 // turn off give the same points up to a rigid motion, but the half turn may leave joint 2's range).
-// *excluded gets the ties the limits rule out.
+// *excluded gets the ties the limits rule out, each with its rows outside them.
 std::vector<size_t> Ties(const Robot& robot, const Dataset& sample, const std::vector<Repair>& repairs,
-                         const std::vector<double>& relative, const DoctorOptions& o, std::vector<size_t>* excluded) {
+                         const std::vector<double>& relative, const DoctorOptions& o,
+                         std::vector<std::pair<size_t, int>>* excluded) {
   std::vector<size_t> tied;
   for (size_t k = 0; k < repairs.size(); ++k) {
     if (relative[k] <= o.tie * *std::min_element(relative.begin(), relative.end())) tied.push_back(k);
@@ -194,7 +195,13 @@ std::vector<size_t> Ties(const Robot& robot, const Dataset& sample, const std::v
   for (size_t k : tied) outside.push_back(RowsOutsideLimits(robot, Apply(sample, repairs[k]), o.fit.max_offset));
   const int fewest = *std::min_element(outside.begin(), outside.end());
   std::vector<size_t> kept;
-  for (size_t i = 0; i < tied.size(); ++i) (outside[i] == fewest ? kept : *excluded).push_back(tied[i]);
+  for (size_t i = 0; i < tied.size(); ++i) {
+    if (outside[i] == fewest) {
+      kept.push_back(tied[i]);
+    } else {
+      excluded->push_back({tied[i], outside[i]});
+    }
+  }
   return kept;
 }
 
@@ -214,7 +221,7 @@ bool BestRepair(const Robot& robot, const Dataset& data, const DoctorOptions& o,
     scores.push_back(FitCheap(robot, repaired, o.fit).score);
     relative.push_back(scores.back() / spreads.back());
   }
-  std::vector<size_t> excluded;
+  std::vector<std::pair<size_t, int>> excluded;
   const std::vector<size_t> tied = Ties(robot, sample, repairs, relative, o, &excluded);
   const size_t best = tied.front();
   if (!(relative[best] <= o.ratio * given_relative &&
@@ -234,7 +241,10 @@ bool BestRepair(const Robot& robot, const Dataset& data, const DoctorOptions& o,
     found->alternatives.push_back({alt.cause, alt.joints, scores[tied[i]]});
     found->message += "; these data cannot tell it from: " + what(tied[i]);
   }
-  for (size_t k : excluded) found->message += "; fits as well but puts rows outside the joint limits: " + what(k);
+  for (const auto& [k, outside] : excluded) {
+    found->message += "; fits as well but puts " + std::to_string(outside) + " of " +
+                      std::to_string(sample.rows.size()) + " rows outside the joint limits: " + what(k);
+  }
   return true;
 }
 
