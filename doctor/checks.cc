@@ -59,7 +59,7 @@ std::vector<Finding> CheckTool(const Robot& robot, const Dataset& data, const Do
   const double given = FitCheap(robot, sample, held).score;
   if (!ClearlyBetter(given, free.score, o)) return {};
   Finding f{"tool", {}, {}, message + " in the tool frame: correct the robot file's tool or markers", given,
-            free.score};
+            free.score, {}};
   return {f};
 }
 
@@ -84,7 +84,7 @@ std::vector<Finding> CheckOutliers(const Robot& robot, const Dataset& data, cons
   char buffer[160];
   std::snprintf(buffer, sizeof buffer, "%zu rows lie more than %.1f mm (%.0f x the median) from the fit: remove or re-measure them",
                 lines.size(), threshold * kMm, o.outlier_factor);
-  return {{"outliers", {}, lines, buffer, TrimmedRms(r, 1.0), repaired}};
+  return {{"outliers", {}, lines, buffer, TrimmedRms(r, 1.0), repaired, {}}};
 }
 
 std::vector<Finding> CheckStill(const Robot& robot, const Dataset& data, const DoctorOptions& o) {
@@ -96,7 +96,7 @@ std::vector<Finding> CheckStill(const Robot& robot, const Dataset& data, const D
     out.push_back({"joint_not_moved", {j + 1}, {}, "joint " + std::to_string(j + 1) +
                        " never moved (its values span less than " + std::to_string(o.still_range * 180 / M_PI).substr(0, 4) +
                        " deg): its parameters cannot be identified from these data; move it",
-                   score, score});
+                   score, score, {}});
   }
   return out;
 }
@@ -117,6 +117,8 @@ const OptionTable<DoctorOptions>& DoctorOptions::Table() {
           .Add("tie", &O::tie, "repairs within this factor of the best one's RMS are named as alternatives",
                Between(1.0, 2.0, false, false))
           .Add("max_rows", &O::max_rows, "rows the hypotheses are fitted on (evenly spaced) in larger files", AtLeast(20))
+          .Add("jump_candidates", &O::jump_candidates,
+               "change points per session (the likeliest, far apart) scored as repairs of a jumped frame", AtLeast(1))
           .Add("rounds", &O::rounds, "repairs found one after the other, each on the data repaired so far", AtLeast(1));
   return table;
 }
@@ -125,7 +127,9 @@ nlohmann::json FindingsToJson(const std::vector<Finding>& findings, double rms_a
   nlohmann::json out = {{"rms_as_given_mm", rms_as_given * kMm}, {"findings", nlohmann::json::array()}};
   for (const Finding& f : findings) {
     nlohmann::json alternatives = nlohmann::json::array();
-    for (const auto& a : f.alternatives) alternatives.push_back({{"cause", a.cause}, {"joints", a.joints}});
+    for (const auto& a : f.alternatives) {
+      alternatives.push_back({{"cause", a.cause}, {"joints", a.joints}, {"rms_repaired_mm", a.rms_repaired * kMm}});
+    }
     out["findings"].push_back({{"cause", f.cause},
                                {"alternatives", alternatives},
                                {"joints", f.joints},

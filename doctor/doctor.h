@@ -29,6 +29,7 @@ struct DoctorOptions {
   double tie = 1.02;             // repairs within this factor of the best fit the data as well: alternatives
   double still_range = M_PI / 180;  // a joint whose values span less than this never moved, rad (1 deg)
   int max_rows = 300;            // rows the hypotheses are fitted on (evenly spaced) when the file has more
+  int jump_candidates = 3;       // change points per session the cheap fit scores as instrument_moved repairs
   int rounds = 3;                // findings among the repairs, the best first, each on the data repaired so far
   CheapFitOptions fit;
   static const OptionTable<DoctorOptions>& Table();
@@ -41,11 +42,13 @@ struct Finding {
   std::string message;      // what is wrong and the repair, one line
   double rms_as_given = 0.0;  // m: the cheap fit's trimmed RMS before and after the repair
   double rms_repaired = 0.0;
-  // Repairs that fit the data as well (within DoctorOptions::tie): the data cannot tell them apart (on
-  // arms whose axes make a mirror pose, a reversed first joint and a second joint's zero half a turn off).
+  // Repairs that fit the data as well (within DoctorOptions::tie) and keep as many rows within the robot
+  // file's joint limits: the data cannot tell them apart (on arms whose axes make a mirror pose, a reversed
+  // first joint and a second joint's zero half a turn off give the same points up to a rigid motion).
   struct Alternative {
     std::string cause;
     std::vector<int> joints;
+    double rms_repaired = 0.0;  // m
   };
   std::vector<Alternative> alternatives;
 };
@@ -58,7 +61,7 @@ std::vector<Finding> Diagnose(const Robot& robot, const Dataset& data, const Doc
 double RmsAsGiven(const Robot& robot, const Dataset& data, const DoctorOptions& options = {});
 
 // {"rms_as_given_mm", "findings": [{"cause", "joints", "lines", "message", "rms_as_given_mm",
-// "rms_repaired_mm", "alternatives": [{"cause", "joints"}]}, ...]}
+// "rms_repaired_mm", "alternatives": [{"cause", "joints", "rms_repaired_mm"}]}, ...]}
 nlohmann::json FindingsToJson(const std::vector<Finding>& findings, double rms_as_given);
 // "check: CAUSE: MESSAGE (RMS a -> b mm)", one line.
 std::string FindingLine(const Finding& finding);

@@ -29,8 +29,11 @@ Robot Ur10WithTool() {
   return r;
 }
 
-Case Simulated(int poses, uint64_t seed, std::vector<int> sweep_order = {}) {
+// `limits`: the robot file's joint limits, rad (empty: ur10_dh.yaml's +-360 deg); the poses keep within them.
+Case Simulated(int poses, uint64_t seed, std::vector<int> sweep_order = {},
+               std::vector<std::pair<double, double>> limits = {}) {
   Case s{Ur10WithTool(), {}};
+  if (!limits.empty()) s.nominal.limits = limits;
   Robot truth = s.nominal;
   Eigen::VectorXd p = truth.model().Parameters();
   Rng rng(seed);
@@ -120,6 +123,42 @@ TEST(Doctor, AZeroNinetyDegreesOffIsAJointOffset) {
   EXPECT_EQ(Only(doctor::Diagnose(s.nominal, s.data), "joint_offset").joints, (std::vector<int>{3}));
 }
 
+// The UR10's first two axes meet at right angles: negating joint 1 and turning joint 2 half a turn give
+// the same points up to a rigid motion (a half turn about the axis normal to both through the shoulder),
+// which the measurement frame takes up. Both repairs fit to rounding, and the finding names the other.
+TEST(Doctor, AMirrorPoseIsNamedWithItsTwin) {
+  Case s = Simulated(150, 16);
+  for (auto& m : s.data.rows) m.q[0] = -m.q[0];
+  const std::vector<doctor::Finding> found = doctor::Diagnose(s.nominal, s.data);
+  ASSERT_EQ(found.size(), 1u) << Causes(found);
+  const doctor::Finding& f = found[0];
+  ASSERT_EQ(f.alternatives.size(), 1u) << f.message;
+  const bool direction = f.cause == "joint_direction";
+  EXPECT_EQ(f.joints, (std::vector<int>{direction ? 1 : 2}));
+  EXPECT_EQ(f.alternatives[0].cause, direction ? "joint_offset" : "joint_direction");
+  EXPECT_EQ(f.alternatives[0].joints, (std::vector<int>{direction ? 2 : 1}));
+  EXPECT_NEAR(f.alternatives[0].rms_repaired, f.rms_repaired, 1e-6 * f.rms_repaired);
+  EXPECT_NE(f.message.find("cannot tell"), std::string::npos) << f.message;
+}
+
+// With joint 2 limited to +-100 deg, the half turn puts most rows where the arm cannot go: the limits
+// tell the twins apart, whichever of the two faults the file has.
+TEST(Doctor, JointLimitsTellAMirrorPoseFromItsTwin) {
+  std::vector<std::pair<double, double>> limits(6, {-2 * M_PI, 2 * M_PI});
+  limits[1] = {-100 * M_PI / 180, 100 * M_PI / 180};
+  const Case s = Simulated(150, 17, {}, limits);
+  Dataset reversed = s.data, turned = s.data;
+  for (auto& m : reversed.rows) m.q[0] = -m.q[0];
+  for (auto& m : turned.rows) m.q[1] += M_PI;
+  const doctor::Finding a = Only(doctor::Diagnose(s.nominal, reversed), "joint_direction");
+  EXPECT_EQ(a.joints, (std::vector<int>{1}));
+  EXPECT_TRUE(a.alternatives.empty()) << a.message;
+  EXPECT_NE(a.message.find("outside the joint limits"), std::string::npos) << a.message;
+  const doctor::Finding b = Only(doctor::Diagnose(s.nominal, turned), "joint_offset");
+  EXPECT_EQ(b.joints, (std::vector<int>{2}));
+  EXPECT_TRUE(b.alternatives.empty()) << b.message;
+}
+
 TEST(Doctor, AToolFarFromTheFilesIsTheTool) {
   const Case s = Simulated(150, 9);
   Robot file = s.nominal;
@@ -142,6 +181,16 @@ TEST(Doctor, AFrameJumpIsTheInstrumentMovedFromItsLine) {
   bump.translation() = Eigen::Vector3d(0.01, 0.0, -0.005);
   for (size_t i = 90; i < s.data.rows.size(); ++i) s.data.rows[i].p = bump * s.data.rows[i].p;
   EXPECT_EQ(Only(doctor::Diagnose(s.nominal, s.data), "instrument_moved").lines, (std::vector<int>{91}));
+  // A turn about the centre of the points measured after it shifts their mean residual by nothing: the
+  // change point is a rigid motion's, not a mean shift's.
+  Case turn = Simulated(150, 11);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (size_t i = 60; i < turn.data.rows.size(); ++i) centre += turn.data.rows[i].p / 90.0;
+  const Eigen::Isometry3d about = Eigen::Translation3d(centre) *
+                                  Eigen::AngleAxisd(0.005, Eigen::Vector3d(1, 2, 2).normalized()) *
+                                  Eigen::Translation3d(-centre);
+  for (size_t i = 60; i < turn.data.rows.size(); ++i) turn.data.rows[i].p = about * turn.data.rows[i].p;
+  EXPECT_EQ(Only(doctor::Diagnose(turn.nominal, turn.data), "instrument_moved").lines, (std::vector<int>{61}));
 }
 
 TEST(Doctor, AJointNeverSweptIsNotMoved) {
@@ -184,13 +233,18 @@ TEST(Doctor, CheckCommandReportsByLineAndExitsTwoOnUnreadableData) {
 }
 
 TEST(Doctor, ReportHasTheNamedFields) {
-  const std::vector<doctor::Finding> f = {{"outliers", {}, {12, 40}, "two rows", 2e-3, 1e-3}};
+  const std::vector<doctor::Finding> f = {{"outliers", {}, {12, 40}, "two rows", 2e-3, 1e-3, {}}};
   const nlohmann::json j = doctor::FindingsToJson(f, 3e-3);
   EXPECT_DOUBLE_EQ(j["rms_as_given_mm"].get<double>(), 3.0);
   EXPECT_EQ(j["findings"][0]["cause"], "outliers");
   EXPECT_EQ(j["findings"][0]["lines"], nlohmann::json({12, 40}));
   EXPECT_DOUBLE_EQ(j["findings"][0]["rms_as_given_mm"].get<double>(), 2.0);
   EXPECT_DOUBLE_EQ(j["findings"][0]["rms_repaired_mm"].get<double>(), 1.0);
+  doctor::Finding twin{"joint_direction", {1}, {}, "joint 1 reversed", 0.2, 1e-3, {{"joint_offset", {2}, 1.5e-3}}};
+  const nlohmann::json t = doctor::FindingsToJson({twin}, 0.2)["findings"][0]["alternatives"][0];
+  EXPECT_EQ(t["cause"], "joint_offset");
+  EXPECT_EQ(t["joints"], nlohmann::json({2}));
+  EXPECT_DOUBLE_EQ(t["rms_repaired_mm"].get<double>(), 1.5);
 }
 
 }  // namespace
