@@ -50,7 +50,7 @@ struct Finding {
     std::vector<int> joints;
     double rms_repaired = 0.0;  // m
   };
-  std::vector<Alternative> alternatives;
+  std::vector<Alternative> alternatives = {};
 };
 
 // Every finding on `data` (as read from its file) with `robot` (the robot file). Throws only for data
