@@ -77,7 +77,9 @@ TEST(DampedNormalEquations, SingularSystemIsNotFactoredUndamped) {
   DampedNormalEquations<Eigen::Dynamic> normal;
   normal.Assemble(J, Eigen::VectorXd::Ones(6));
   // Rank deficient: H is singular, its factor at best at rounding level; damped it is definite.
-  if (normal.Factor()) EXPECT_GT(normal.InverseTrace() * normal.H().trace(), 1e12);
+  if (normal.Factor()) {
+    EXPECT_GT(normal.InverseTrace() * normal.H().trace(), 1e12);
+  }
   EXPECT_TRUE(normal.Factor(1e-6));
   EXPECT_TRUE(normal.Factor(1e-6, Damping::kMarquardt));
 }
