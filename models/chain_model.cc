@@ -153,13 +153,16 @@ std::vector<Eigen::Isometry3d> ChainModel::FramePoses(const Eigen::VectorXd& q) 
 
 Matrix6Xd ChainModel::JointJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point) const {
   Frame F;
-  return JacobianAndTool(q, p_tool_point, &F);
+  Matrix6Xd J;
+  JacobianAndTool(q, p_tool_point, &F, &J);
+  return J;
 }
 
-Matrix6Xd ChainModel::JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
-                                      Frame* tool) const {
+void ChainModel::JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point, Frame* tool,
+                                 Matrix6Xd* J_out) const {
   CheckJoints(q);
-  Matrix6Xd J(6, dof());
+  Matrix6Xd& J = *J_out;
+  J.resize(6, dof());
   Frame& F = *tool;
   F = Frame();
   for (const Step& step : steps_) {
@@ -181,14 +184,13 @@ Matrix6Xd ChainModel::JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vec
     Apply(step.type, value, std::cos(value), std::sin(value), &F);
   }
   const Eigen::Vector3d p_end = F.p + F.R * p_tool_point;
-  J.topRows<3>() -= Skew(p_end) * J.bottomRows<3>();
-  return J;
+  J.topRows<3>().noalias() -= Skew(p_end) * J.bottomRows<3>();  // disjoint rows: no temporary
 }
 
 Eigen::Isometry3d ChainModel::JointJacobianAndPose(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point,
                                                    Matrix6Xd* J) const {
   Frame tool;
-  *J = JacobianAndTool(q, p_tool_point, &tool);
+  JacobianAndTool(q, p_tool_point, &tool, J);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = tool.R;
   T.translation() = tool.p;
@@ -204,7 +206,8 @@ Eigen::Isometry3d PoseAndJointJacobian(const KinematicModel& model, const Eigen:
 
 std::vector<Eigen::Matrix4d> ChainModel::PoseDerivatives(const Eigen::VectorXd& q) const {
   Frame tool;
-  const Matrix6Xd J = JacobianAndTool(q, Eigen::Vector3d::Zero(), &tool);  // one pass: J and R_meas_tool
+  Matrix6Xd J;
+  JacobianAndTool(q, Eigen::Vector3d::Zero(), &tool, &J);  // one pass: J and R_meas_tool
   const Eigen::Matrix3d& R = tool.R;
   std::vector<Eigen::Matrix4d> dT(dof(), Eigen::Matrix4d::Zero());
   for (int i = 0; i < dof(); ++i) {

@@ -65,8 +65,8 @@ class ChainModel : public KinematicModel {
     double value = 0.0, c = 1.0, s = 0.0;
   };
   static void Apply(Op::Type type, double value, double c, double s, Frame* F);
-  // JointJacobian, also giving the tool frame T_meas_tool(q) it passes through.
-  Matrix6Xd JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point, Frame* tool) const;
+  // JointJacobian into *J (its storage reused), also giving the tool frame T_meas_tool(q) it passes through.
+  void JacobianAndTool(const Eigen::VectorXd& q, const Eigen::Vector3d& p_tool_point, Frame* tool, Matrix6Xd* J) const;
   void CheckJoints(const Eigen::VectorXd& q) const;
 
   std::vector<Op> ops_;

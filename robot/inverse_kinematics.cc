@@ -4,8 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-
+#include "framework/damped_least_squares.h"
 #include "framework/math.h"
 #include "framework/random.h"
 
@@ -47,12 +46,13 @@ Evaluation Evaluate(const KinematicModel& model, const Eigen::Isometry3d& target
 Descent Descend(const Robot& robot, const Eigen::Isometry3d& target, bool use_orientation,
                 const InverseKinematicsOptions& o, Eigen::VectorXd* q, int* iterations) {
   const KinematicModel& model = robot.model();
-  const int rows = use_orientation ? 6 : 3;
+  const int rows = use_orientation ? 6 : 3, n = static_cast<int>(q->size());
   Evaluation current = Evaluate(model, target, use_orientation, o, *q);
   double mu = -1.0, nu = 2.0;
   double mark_cost = current.cost;  // the cost when it last halved
   int mark = 0;
   Descent d;
+  DampedNormalEquations<Eigen::Dynamic> normal;  // reused: no allocation per iteration
   for (int it = 0;; ++it) {
     d.cost = current.cost;
     d.position_error = current.position_error;
@@ -65,19 +65,20 @@ Descent Descend(const Robot& robot, const Eigen::Isometry3d& target, bool use_or
     ++*iterations;
     Matrix6Xd J = model.JointJacobian(*q);
     J.bottomRows<3>() *= o.length_scale;
-    const Eigen::MatrixXd A = J.topRows(rows);
-    const Eigen::MatrixXd H = A.transpose() * A;
-    const Eigen::VectorXd g = A.transpose() * current.r.head(rows);
-    const double scale = std::max(H.diagonal().maxCoeff(), 1e-300);
+    normal.Assemble(J.topRows(rows), current.r.head(rows));
+    const double scale = std::max(normal.H().diagonal().maxCoeff(), 1e-300);
     if (mu < 0) mu = o.damping * scale;
     // More damping until a step lowers the cost; none does once the damping dwarfs J^T J (a minimum).
     bool accepted = false;
     while (!accepted && mu < 1e12 * scale) {
-      Eigen::MatrixXd damped = H;
-      damped.diagonal().array() += mu;
-      const Eigen::VectorXd step = damped.ldlt().solve(g);
-      const double predicted = step.dot(g) - 0.5 * (A * step).squaredNorm();
-      const Evaluation trial = step.allFinite() ? Evaluate(model, target, use_orientation, o, *q + step) : Evaluation();
+      // A damped system that is not positive definite to rounding counts as a refused step.
+      const bool factored = normal.Factor(mu);
+      const Eigen::VectorXd step = factored ? normal.Step() : Eigen::VectorXd::Zero(n).eval();
+      double fit2 = 0.0;  // |J step|^2
+      for (int i = 0; i < rows; ++i) fit2 += std::pow(J.row(i).dot(step), 2);
+      const double predicted = step.dot(normal.g()) - 0.5 * fit2;
+      const Evaluation trial =
+          factored && step.allFinite() ? Evaluate(model, target, use_orientation, o, *q + step) : Evaluation();
       if (trial.cost < current.cost && predicted > 0) {
         const double rho = (current.cost - trial.cost) / predicted;
         if (rho > 0.25) mu = std::max(mu / 3, 1e-20 * scale);  // a floor keeps mu * nu growing

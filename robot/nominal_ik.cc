@@ -7,8 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-
+#include "framework/damped_least_squares.h"
 #include "framework/error.h"
 #include "robot/ik_geometry.h"
 #include "framework/math.h"
@@ -333,13 +332,12 @@ void NominalInverseKinematics::Impl::Polish(const Isometry3d& T, VectorXd* q, do
   Vector6d e = PoseError(PoseAndJointJacobian(model, *q, &J), T);
   double cost = e.squaredNorm();
   for (int it = 0; it < 8 && cost > 1e-28; ++it) {
-    // Closed-form branches exist for 6 joints only (Detect): fixed 6 x 6 normal equations (dynamic ones
-    // cost 4.5 s more CPU to compile at -O3; Eigen evaluates a 6 x 6 dynamic product coefficient-wise
-    // too, and the results are the same).
-    const Matrix6d A = J;
-    Matrix6d H = A.transpose() * A;
-    H.diagonal().array() += 1e-14 * std::max(1.0, H.diagonal().maxCoeff());
-    const VectorXd step = H.ldlt().solve(A.transpose() * e);
+    // Closed-form branches exist for 6 joints only (Detect): fixed 6 x 6 normal equations, with a
+    // damping at rounding level that keeps a singular J's system positive definite.
+    DampedNormalEquations<6> normal;
+    normal.Assemble(Matrix6d(J), e);
+    if (!normal.Factor(1e-14 * std::max(1.0, normal.H().diagonal().maxCoeff()))) break;
+    const Vector6d step = normal.Step();
     if (!step.allFinite()) break;
     const VectorXd trial = *q + step;
     const Vector6d e_trial = PoseError(PoseAndJointJacobian(model, trial, &J_trial), T);

@@ -1,5 +1,6 @@
 #include "compensators/common/gauss_newton.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/QR>
@@ -26,78 +27,36 @@ bool GaussNewtonOptions::IsValid(std::string* why) const { return Table().Valida
 
 namespace {
 
-// The systems here are 3x3 to 7x7: plain loops beat Eigen's blocked dynamic-size kernels, whose set-up
-// costs more than the arithmetic.
-
-// G = L L^T in place (lower triangle); false unless G is numerically positive definite.
-bool CholeskyInPlace(Eigen::MatrixXd* G) {
-  Eigen::MatrixXd& L = *G;
-  const int k = static_cast<int>(L.rows());
-  for (int j = 0; j < k; ++j) {
-    double d = L(j, j);
-    for (int p = 0; p < j; ++p) d -= L(j, p) * L(j, p);
-    if (!(d > 0)) return false;
-    d = std::sqrt(d);
-    L(j, j) = d;
-    for (int i = j + 1; i < k; ++i) {
-      double s = L(i, j);
-      for (int p = 0; p < j; ++p) s -= L(i, p) * L(j, p);
-      L(i, j) = s / d;
-    }
-  }
-  return true;
-}
-
-// |L^-1|_F^2 = trace(G^-1), column by column of L^-1 by forward substitution, with the reciprocals of
-// the diagonal (k divisions instead of k (k + 1) / 2: the divisions' latency was most of this bound's
-// time). Rounding moves the bound by a few ulp, and only the choice of computing the exact ratio
-// depends on it.
-double InverseTrace(const Eigen::MatrixXd& L) {
-  const int k = static_cast<int>(L.rows());
+// |A x| without a temporary.
+double ProductNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& x) {
   double sum = 0.0;
-  double x[64], inverse[64];
-  for (int i = 0; i < k; ++i) inverse[i] = 1.0 / L(i, i);
-  for (int c = 0; c < k; ++c) {
-    x[c] = inverse[c];
-    sum += x[c] * x[c];
-    for (int i = c + 1; i < k; ++i) {
-      double s = 0.0;
-      for (int p = c; p < i; ++p) s -= L(i, p) * x[p];
-      x[i] = s * inverse[i];
-      sum += x[i] * x[i];
-    }
+  for (int i = 0; i < A.rows(); ++i) {
+    const double v = A.row(i).dot(x);
+    sum += v * v;
   }
-  return sum;
-}
-
-// Solves L L^T y = b in place.
-void CholeskySolveInPlace(const Eigen::MatrixXd& L, Eigen::VectorXd* b) {
-  Eigen::VectorXd& y = *b;
-  const int k = static_cast<int>(L.rows());
-  for (int i = 0; i < k; ++i) {
-    double s = y[i];
-    for (int p = 0; p < i; ++p) s -= L(i, p) * y[p];
-    y[i] = s / L(i, i);
-  }
-  for (int i = k - 1; i >= 0; --i) {
-    double s = y[i];
-    for (int p = i + 1; p < k; ++p) s -= L(p, i) * y[p];
-    y[i] = s / L(i, i);
-  }
+  return std::sqrt(sum);
 }
 
 }  // namespace
 
 DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& r,
                                                    const GaussNewtonOptions& options, Eigen::VectorXd* dq) {
+  const Eigen::Index k = std::min(A.rows(), A.cols());
+  return k == 6 ? SolveWith(&six_, A, r, options, dq) : SolveWith(&any_, A, r, options, dq);
+}
+
+template <int Size>
+DampedLeastSquares::Step DampedLeastSquares::SolveWith(Workspace<Size>* w, const Eigen::MatrixXd& A,
+                                                       const Eigen::VectorXd& r, const GaussNewtonOptions& options,
+                                                       Eigen::VectorXd* dq) {
   Step step;
   const int m = static_cast<int>(A.rows()), n = static_cast<int>(A.cols());
   const bool tall = m >= n;
   residual_norm2_ = r.squaredNorm();
   const double r_norm = std::sqrt(residual_norm2_);
+  // P r: the undamped step fits the part of r in the range of A.
   const auto reducible = [&](const Eigen::VectorXd& undamped) {
-    fit_.noalias() = A * undamped;  // P r: the undamped step fits the part of r in the range of A
-    return r_norm > 0 ? fit_.norm() / r_norm : 0.0;
+    return r_norm > 0 ? ProductNorm(A, undamped) / r_norm : 0.0;
   };
   if (options.singular_ratio <= 0.0) {
     // The seed's Delta_theta = A^+ B: the minimum-norm least-squares solution, rank deficient or not.
@@ -106,57 +65,51 @@ DampedLeastSquares::Step DampedLeastSquares::Solve(const Eigen::MatrixXd& A, con
     step.reducible_ratio = reducible(*dq);
     return step;
   }
-  const int k = tall ? n : m;
-  G_.resize(k, k);
-  for (int j = 0; j < k; ++j) {
-    for (int i = j; i < k; ++i) {
-      G_(i, j) = G_(j, i) = tall ? A.col(i).dot(A.col(j)) : A.row(i).dot(A.row(j));
-    }
-  }
+  DampedNormalEquations<Size>& normal = w->normal;
   if (tall) {
-    g_.resize(n);
-    for (int j = 0; j < n; ++j) g_[j] = A.col(j).dot(r);
+    normal.Assemble(A, r);
   } else {
-    g_ = r;
+    normal.AssembleWide(A, r);
   }
-  L_ = G_;
-  const bool factored = k <= 64 && CholeskyInPlace(&L_);
-  if (factored) step.sigma_ratio = 1.0 / std::sqrt(G_.trace() * InverseTrace(L_));
+  const bool factored = normal.Factor();
+  if (factored) step.sigma_ratio = 1.0 / std::sqrt(normal.H().trace() * normal.InverseTrace());
   if (step.sigma_ratio < options.singular_ratio) {
-    eigen_.compute(G_, Eigen::ComputeEigenvectors);
-    const double lambda_max = std::max(eigen_.eigenvalues().maxCoeff(), 0.0);
-    const double lambda_min = std::max(eigen_.eigenvalues().minCoeff(), 0.0);
+    w->eigen.compute(normal.H(), Eigen::ComputeEigenvectors);
+    const double lambda_max = std::max(w->eigen.eigenvalues().maxCoeff(), 0.0);
+    const double lambda_min = std::max(w->eigen.eigenvalues().minCoeff(), 0.0);
     step.sigma_ratio = lambda_max > 0 ? std::sqrt(lambda_min / lambda_max) : 0.0;
     if (step.sigma_ratio < options.singular_ratio || !factored) {
       step.near_singular = step.sigma_ratio < options.singular_ratio;
-      TrustRegionStep(A, tall, options.trust_radius, &step, dq);
+      TrustRegionStep(w, A, tall, options.trust_radius, &step, dq);
       return step;
     }
   }
-  y_ = g_;
-  CholeskySolveInPlace(L_, &y_);
+  w->y = normal.Step();
   if (tall) {
-    *dq = y_;
+    *dq = w->y;
   } else {
     dq->resize(n);
-    for (int j = 0; j < n; ++j) (*dq)[j] = A.col(j).dot(y_);
+    for (int j = 0; j < n; ++j) (*dq)[j] = A.col(j).dot(w->y);
   }
   step.undamped_norm = dq->norm();
   step.reducible_ratio = reducible(*dq);
   if (step.undamped_norm > options.trust_radius) {
     // Far from the target (or a target out of reach): the linear model is not trusted that far.
-    eigen_.compute(G_, Eigen::ComputeEigenvectors);
-    TrustRegionStep(A, tall, options.trust_radius, &step, dq);
+    w->eigen.compute(normal.H(), Eigen::ComputeEigenvectors);
+    TrustRegionStep(w, A, tall, options.trust_radius, &step, dq);
   }
   return step;
 }
 
-void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step,
-                                         Eigen::VectorXd* dq) {
-  const Eigen::VectorXd& lambda = eigen_.eigenvalues();
-  const Eigen::MatrixXd& V = eigen_.eigenvectors();
+template <int Size>
+void DampedLeastSquares::TrustRegionStep(Workspace<Size>* w, const Eigen::MatrixXd& A, bool tall, double radius,
+                                         Step* step, Eigen::VectorXd* dq) {
+  const auto& lambda = w->eigen.eigenvalues();
+  const auto& V = w->eigen.eigenvectors();
+  const auto& g = w->normal.g();
+  auto& c = w->c;
   const int k = static_cast<int>(lambda.size());
-  c_.noalias() = V.transpose() * g_;
+  c.noalias() = V.transpose() * g;
   // Eigenvalues at rounding level carry no information: dropped from the undamped step (pseudo-inverse).
   const double floor = std::max(lambda.maxCoeff(), 0.0) * k * 1e-15;
   // s(mu) = |dq(mu)|^2 = sum_i w_i c_i^2 / (lambda_i + mu)^2, w_i = 1 (tall: dq = V y) or lambda_i (wide:
@@ -166,10 +119,10 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
     for (int i = 0; i < k; ++i) {
       const double l = std::max(lambda[i], 0.0);
       if (mu == 0.0 && l <= floor) continue;
-      const double y = c_[i] / (l + mu);
-      const double w = tall ? 1.0 : l;
-      sum += w * y * y;
-      derivative -= 2 * w * y * y / (l + mu);
+      const double y = c[i] / (l + mu);
+      const double weight = tall ? 1.0 : l;
+      sum += weight * y * y;
+      derivative -= 2 * weight * y * y / (l + mu);
     }
     if (slope) *slope = derivative;
     return sum;
@@ -180,9 +133,9 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
   // |P r|^2 = sum over informative eigenvalues of c_i^2 / lambda_i (tall: c = V^T A^T r) or c_i^2 (wide).
   double fit2 = 0.0;
   for (int i = 0; i < k; ++i) {
-    if (lambda[i] > floor) fit2 += tall ? c_[i] * c_[i] / lambda[i] : c_[i] * c_[i];
+    if (lambda[i] > floor) fit2 += tall ? c[i] * c[i] / lambda[i] : c[i] * c[i];
   }
-  const double r_norm = tall ? std::sqrt(std::max(residual_norm2_, 0.0)) : g_.norm();
+  const double r_norm = tall ? std::sqrt(std::max(residual_norm2_, 0.0)) : g.norm();
   step->reducible_ratio = r_norm > 0 ? std::sqrt(fit2) / r_norm : 0.0;
   if (step->undamped_norm > radius) {
     // |dq(mu)| = radius: Newton's method on 1 / |dq(mu)| - 1 / radius, which is concave and nearly
@@ -198,16 +151,17 @@ void DampedLeastSquares::TrustRegionStep(const Eigen::MatrixXd& A, bool tall, do
     step->damped = true;
   }
   step->mu = mu;
-  y_.resize(k);
+  w->y.resize(k);
   for (int i = 0; i < k; ++i) {
     const double l = std::max(lambda[i], 0.0);
-    y_[i] = (mu == 0.0 && l <= floor) ? 0.0 : c_[i] / (l + mu);
+    w->y[i] = (mu == 0.0 && l <= floor) ? 0.0 : c[i] / (l + mu);
   }
-  const Eigen::VectorXd v = V * y_;
+  const typename DampedNormalEquations<Size>::Vector v = V * w->y;
   if (tall) {
     *dq = v;
   } else {
-    dq->noalias() = A.transpose() * v;
+    dq->resize(A.cols());
+    for (int j = 0; j < A.cols(); ++j) (*dq)[j] = A.col(j).dot(v);
   }
 }
 

@@ -20,6 +20,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "compensators/compensator.h"
+#include "framework/damped_least_squares.h"
 #include "framework/registry.h"
 
 namespace kincal {
@@ -85,13 +86,24 @@ class DampedLeastSquares {
              Eigen::VectorXd* dq);
 
  private:
+  // The 6 x 6 systems of 6-joint arms and 6-D targets at a size fixed at compile time, others dynamic.
+  template <int Size>
+  struct Workspace {
+    DampedNormalEquations<Size> normal;
+    Eigen::SelfAdjointEigenSolver<typename DampedNormalEquations<Size>::Matrix> eigen;
+    typename DampedNormalEquations<Size>::Vector c, y;
+  };
+  template <int Size>
+  Step SolveWith(Workspace<Size>* w, const Eigen::MatrixXd& A, const Eigen::VectorXd& r,
+                 const GaussNewtonOptions& options, Eigen::VectorXd* dq);
   // Near-singular step from the eigen-decomposition of G: the smallest mu with |dq(mu)| <= radius.
-  void TrustRegionStep(const Eigen::MatrixXd& A, bool tall, double radius, Step* step, Eigen::VectorXd* dq);
+  template <int Size>
+  void TrustRegionStep(Workspace<Size>* w, const Eigen::MatrixXd& A, bool tall, double radius, Step* step,
+                       Eigen::VectorXd* dq);
 
-  Eigen::MatrixXd G_, L_;
-  Eigen::VectorXd g_, y_, c_, fit_;
+  Workspace<6> six_;
+  Workspace<Eigen::Dynamic> any_;
   double residual_norm2_ = 0.0;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen_;
 };
 
 // Iterates from result->q_actual (the seed) and fills result->q_actual, the report's status, message,

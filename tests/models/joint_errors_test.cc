@@ -178,6 +178,7 @@ TEST_P(JointErrorRegressors, OnePassMapMatchesTheMap) {
   EXPECT_EQ(map.dq_dprevious, expected.dq_dprevious);
   EXPECT_LT((map.dq_dparameters - expected.dq_dparameters).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_GT(expected.dq_dparameters.cwiseAbs().maxCoeff(), 1e-3);  // the comparison is not of zeros
+  const Eigen::MatrixXd expected_parameters = expected.dq_dparameters;
   // A second row through the same scratch: no state carried over.
   const Eigen::VectorXd qbar2 = (Eigen::VectorXd(6) << -1.0, 0.3, -0.2, 1.5, 0.7, -2.0).finished();
   EvaluateJointErrorMap(errors, context, qbar2, nullptr, {true, false, true}, &expected);
@@ -185,6 +186,17 @@ TEST_P(JointErrorRegressors, OnePassMapMatchesTheMap) {
   EXPECT_EQ(map.q, expected.q);
   EXPECT_LT((map.dq_dqbar - expected.dq_dqbar).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_LT((map.dq_dparameters - expected.dq_dparameters).cwiseAbs().maxCoeff(), 1e-15);
+  // Only the parameter derivatives wanted (the fit's parameter Jacobian), through the scratch of a full
+  // evaluation: the same q and parameter derivatives as the full evaluation's, and nothing else.
+  JointErrorMap full, parameters_only;
+  prepared.EvaluateMap(errors, context, qbar, &previous, {true, true, true}, &row, &full);
+  prepared.EvaluateMap(errors, context, qbar, &previous, {false, false, true}, &row, &parameters_only);
+  EXPECT_EQ(parameters_only.q, full.q);
+  EXPECT_EQ(parameters_only.phi, full.phi);
+  ASSERT_EQ(parameters_only.dq_dparameters.rows(), full.dq_dparameters.rows());
+  ASSERT_EQ(parameters_only.dq_dparameters.cols(), full.dq_dparameters.cols());
+  EXPECT_LT((parameters_only.dq_dparameters - full.dq_dparameters).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((parameters_only.dq_dparameters - expected_parameters).cwiseAbs().maxCoeff(), 1e-15);
   JointErrors other;
   other.terms = {Term(T::kBacklash, 0)};
   other.Bind(*model);
