@@ -56,6 +56,26 @@ void SyncFolder(const std::string& dir) {
 
 ResultTable* Table(StudyTables& t, int i) { return t.All()[i]; }
 
+// The journal's first line against the header this run writes: another version's, another file's or
+// another study's journal is refused, never mixed in.
+void CheckJournalHeader(const std::string& path, const std::string& first, const std::string& fingerprint) {
+  if (first.rfind(kMagicPrefix, 0) == 0 && first.rfind(kMagic, 0) != 0) {
+    ThrowInputError(
+        path + ": a journal of another kincal version (" + first.substr(0, first.find(' ', sizeof(kMagicPrefix))) +
+        ", this one writes " + std::string(kMagic, sizeof(kMagic) - 2) +
+        "); its results are not mixed in: choose another --out folder, or delete the journal to start over");
+  }
+  if (first.rfind(kMagic, 0) != 0) {
+    ThrowInputError(path + ": not a kincal study journal; remove it or choose another --out folder");
+  }
+  if (first != kMagic + fingerprint) {
+    ThrowInputError(path + ": written by a different study or shard (journal " + first.substr(sizeof(kMagic) - 1) +
+                    ", this run " + fingerprint +
+                    "); its results are not mixed in: choose another --out folder, "
+                    "or delete the journal to start over");
+  }
+}
+
 }  // namespace
 
 std::string EncodeJournalRows(const StudyTables& rows) {
@@ -110,56 +130,8 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
     const std::string header = kMagic + fingerprint + "\n";
     size_t valid = 0;  // bytes of whole records
     if (text.size() >= header.size() || (!text.empty() && text.back() == '\n')) {
-      const size_t eol = text.find('\n');
-      const std::string first = text.substr(0, eol);
-      if (first.rfind(kMagicPrefix, 0) == 0 && first.rfind(kMagic, 0) != 0) {
-        ThrowInputError(
-            path_ + ": a journal of another kincal version (" + first.substr(0, first.find(' ', sizeof(kMagicPrefix))) +
-            ", this one writes " + std::string(kMagic, sizeof(kMagic) - 2) +
-            "); its results are not mixed in: choose another --out folder, or delete the journal to start over");
-      }
-      if (first.rfind(kMagic, 0) != 0) {
-        ThrowInputError(path_ + ": not a kincal study journal; remove it or choose another --out folder");
-      }
-      if (first + "\n" != header) {
-        ThrowInputError(path_ + ": written by a different study or shard (journal " + first.substr(sizeof(kMagic) - 1) +
-                        ", this run " + fingerprint +
-                        "); its results are not mixed in: choose another --out folder, "
-                        "or delete the journal to start over");
-      }
-      valid = header.size();
-      while (valid < text.size()) {
-        const size_t line_end = text.find('\n', valid);
-        int item = -1;
-        unsigned long long bytes = 0;
-        char checksum[17] = {0};
-        int consumed = 0;
-        const std::string head =
-            text.substr(valid, line_end == std::string::npos ? std::string::npos : line_end - valid);
-        if (std::sscanf(head.c_str(), "item %d %llu %16s %n", &item, &bytes, checksum, &consumed) != 3 ||
-            consumed <= 0) {
-          if (line_end == std::string::npos) break;  // torn in its first bytes
-          ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid));
-        }
-        const size_t payload_at = valid + static_cast<size_t>(consumed);
-        if (payload_at + bytes + 1 > text.size()) break;  // torn: cut short
-        const std::string payload = text.substr(payload_at, bytes);
-        const bool whole = text[payload_at + bytes] == '\n' && Hex(HashLabel(payload)) == checksum;
-        if (!whole) {
-          if (payload_at + bytes + 1 == text.size()) break;  // the last record: torn
-          ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid) + " (checksum)");
-        }
-        if (item < 0 || item >= items) {
-          ThrowInputError(path_ + ": record at byte " + std::to_string(valid) + " names work item " +
-                          std::to_string(item) + " of a study of " + std::to_string(items));
-        }
-        try {
-          recorded_[item] = DecodeJournalRows(payload);
-        } catch (const std::invalid_argument& e) {
-          ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid) + ": " + e.what());
-        }
-        valid = payload_at + bytes + 1;
-      }
+      CheckJournalHeader(path_, text.substr(0, text.find('\n')), fingerprint);
+      valid = ReadRecords(text, header.size(), items);
     }
     if (valid == 0) {  // new, empty or torn within its header
       if (::ftruncate(fd_, 0) != 0) ThrowIoError(path_, "cannot truncate the journal");
@@ -180,6 +152,45 @@ StudyJournal::StudyJournal(const std::string& dir, const std::string& fingerprin
     fd_ = -1;
     throw;
   }
+}
+
+// Reads the whole records of text from byte from on into recorded_; returns the bytes they end at (a torn
+// last record is left out; a damaged one before it is an error).
+size_t StudyJournal::ReadRecords(const std::string& text, size_t from, int items) {
+  size_t valid = from;
+  while (valid < text.size()) {
+    const size_t line_end = text.find('\n', valid);
+    int item = -1;
+    unsigned long long bytes = 0;
+    char checksum[17] = {0};
+    int consumed = 0;
+    const std::string head =
+        text.substr(valid, line_end == std::string::npos ? std::string::npos : line_end - valid);
+    if (std::sscanf(head.c_str(), "item %d %llu %16s %n", &item, &bytes, checksum, &consumed) != 3 ||
+        consumed <= 0) {
+      if (line_end == std::string::npos) break;  // torn in its first bytes
+      ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid));
+    }
+    const size_t payload_at = valid + static_cast<size_t>(consumed);
+    if (payload_at + bytes + 1 > text.size()) break;  // torn: cut short
+    const std::string payload = text.substr(payload_at, bytes);
+    const bool whole = text[payload_at + bytes] == '\n' && Hex(HashLabel(payload)) == checksum;
+    if (!whole) {
+      if (payload_at + bytes + 1 == text.size()) break;  // the last record: torn
+      ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid) + " (checksum)");
+    }
+    if (item < 0 || item >= items) {
+      ThrowInputError(path_ + ": record at byte " + std::to_string(valid) + " names work item " +
+                      std::to_string(item) + " of a study of " + std::to_string(items));
+    }
+    try {
+      recorded_[item] = DecodeJournalRows(payload);
+    } catch (const std::invalid_argument& e) {
+      ThrowInputError(path_ + ": damaged record at byte " + std::to_string(valid) + ": " + e.what());
+    }
+    valid = payload_at + bytes + 1;
+  }
+  return valid;
 }
 
 StudyJournal::~StudyJournal() {

@@ -41,6 +41,7 @@ class StudyJournal {
   void Append(int item, const StudyTables& rows);
 
  private:
+  size_t ReadRecords(const std::string& text, size_t from, int items);
   std::string path_;
   int fd_ = -1;
   std::mutex mutex_;

@@ -89,6 +89,19 @@ int RunItems(const Study& study, const StudyEvaluator& evaluator, const std::vec
   return finished;
 }
 
+// The tables of an uninterrupted run: its headers, then every item's rows in item order.
+StudyTables InItemOrder(const Study& study, const StudyEvaluator& evaluator, std::vector<StudyTables>* rows) {
+  StudyTables tables = MakeStudyTables(study, evaluator.variants(), {});
+  const auto to = tables.All();
+  for (StudyTables& item : *rows) {
+    const auto from = item.All();
+    for (int f = 0; f < StudyTables::kCount; ++f) {
+      for (auto& row : from[f]->rows) to[f]->rows.push_back(std::move(row));
+    }
+  }
+  return tables;
+}
+
 }  // namespace
 
 StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const StudyRunOptions& options,
@@ -154,15 +167,7 @@ StudyRunSummary RunStudy(const Study& study, const std::string& out_dir, const S
   summary.threads = threads;
   summary.stopped = stopped && summary.items_resumed + summary.items_finished < summary.items_run;
   if (!summary.stopped) {
-    // The tables of an uninterrupted run: its headers, then every item's rows in item order.
-    StudyTables tables = MakeStudyTables(study, evaluator.variants(), {});
-    const auto to = tables.All();
-    for (StudyTables& item : rows) {
-      const auto from = item.All();
-      for (int f = 0; f < StudyTables::kCount; ++f) {
-        for (auto& row : from[f]->rows) to[f]->rows.push_back(std::move(row));
-      }
-    }
+    StudyTables tables = InItemOrder(study, evaluator, &rows);
     if (options.shard_count == 1) FlagWorseThanGeometry(&tables.results);  // merge flags the shards'
     const nlohmann::json manifest = StudyManifest(study, evaluator.variants(), num_items);
     WriteStudyFiles(out_dir, manifest, std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count),

@@ -266,6 +266,22 @@ void ErrorModelProblem::HoldByConstruction(const RowSummary& summary, std::map<s
   }
 }
 
+// Every column and block index back to "not free" (-1), sized for the start's model and the data's
+// markers, sessions and fixtures.
+void ErrorModelProblem::ClearColumns() {
+  model_column_.assign(start_.model().num_parameters(), -1);
+  ratio_column_.assign(start_.dof(), -1);
+  joint_error_column_.assign(start_.joint_errors.num_coefficients(), -1);
+  marker_column_.assign(marker_ids_.size(), {-1, -1, -1});
+  session_column_.assign(session_ids_.size(), {-1, -1, -1, -1, -1, -1});
+  marker_block_.assign(marker_ids_.size(), -1);
+  session_block_.assign(session_ids_.size(), -1);
+  fixture_column_.assign(fixture_slots_.size(), {-1, -1, -1});
+  fixture_block_.assign(fixture_slots_.size(), -1);
+  blocks_.clear();
+  geometry_block_ = ratio_block_ = joint_error_block_ = base_block_ = -1;
+}
+
 void ErrorModelProblem::Build() {
   std::set<std::string> held_names;
   for (const auto& h : held_) held_names.insert(h.parameter.name);
@@ -277,18 +293,7 @@ void ErrorModelProblem::Build() {
     return GroupOrder(a.group) < GroupOrder(b.group);
   });
 
-  const int n = start_.dof();
-  model_column_.assign(start_.model().num_parameters(), -1);
-  ratio_column_.assign(n, -1);
-  joint_error_column_.assign(start_.joint_errors.num_coefficients(), -1);
-  marker_column_.assign(marker_ids_.size(), {-1, -1, -1});
-  session_column_.assign(session_ids_.size(), {-1, -1, -1, -1, -1, -1});
-  marker_block_.assign(marker_ids_.size(), -1);
-  session_block_.assign(session_ids_.size(), -1);
-  fixture_column_.assign(fixture_slots_.size(), {-1, -1, -1});
-  fixture_block_.assign(fixture_slots_.size(), -1);
-  blocks_.clear();
-  geometry_block_ = ratio_block_ = joint_error_block_ = base_block_ = -1;
+  ClearColumns();
   for (int i = 0; i < num_parameters(); ++i) {
     const ErrorModelParameter& p = free_[i];
     std::string block;

@@ -308,6 +308,7 @@ class ErrorModelProblem {
   void HoldByConstruction(const RowSummary& summary, std::map<std::string, std::string>* reasons);
   // Orders the candidates not held into x, blocks and column maps.
   void Build();
+  void ClearColumns();
   void UpdateWorkspace(const Eigen::VectorXd& x, Workspace* ws) const;
   // regressor_rms_ at the start values (scales and bounds of the joint error coefficients).
   void MeasureRegressors();
