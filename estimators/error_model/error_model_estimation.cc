@@ -167,7 +167,7 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
       const double sigma = SigmaAt(prep, x, weighting);
       const double noise = prep.problem->prior_noise();
       if (!(sigma > 0.0) || std::abs(sigma - noise) <= 1e-3 * noise) break;
-      RestartAt(x, weighting, sigma, &prep, &x);
+      RestartWithPriorNoise(x, weighting, sigma, &prep, &x);
       run = run_from();
       if (!converged(run)) break;
     }
