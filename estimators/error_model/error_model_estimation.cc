@@ -7,20 +7,18 @@
 #include <string>
 
 #include "estimators/error_model/prediction_uncertainty.h"
-#include "estimators/selection/select_error_model.h"
 
 namespace kincal {
 
-const OptionTable<ErrorModelEstimatorOptions>& ErrorModelEstimatorOptions::Table() {
-  using O = ErrorModelEstimatorOptions;
-  static const OptionTable<O> table = OptionTable<O>("error model estimator")
+const OptionTable<ErrorModelFitOptions>& ErrorModelFitOptions::Table() {
+  using O = ErrorModelFitOptions;
+  static const OptionTable<O> table = OptionTable<O>("error model fit")
                                           .Include(ErrorModelOptions::Table(), &O::error_model)
-                                          .Include(RowWeightingOptions::Table(), &O::weighting)
-                                          .Include(ModelSelectionOptions::Table(), &O::selection);
+                                          .Include(RowWeightingOptions::Table(), &O::weighting);
   return table;
 }
 
-bool ErrorModelEstimatorOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
+bool ErrorModelFitOptions::IsValid(std::string* why) const { return Table().Validate(*this, why); }
 
 namespace {
 
@@ -63,13 +61,9 @@ struct BestIterate {
 
 }  // namespace
 
-void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
+void EstimateErrorModel(const std::string& estimator, const ErrorModelFitOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                         const Dataset& data, Robot* identified, EstimationReport* report) {
-  if (options.selection.select) {
-    SelectErrorModel(estimator, options, budget, minimize, start, controller, data, identified, report);
-    return;
-  }
   const RowWeighting weighting = options.weighting.Weighting(data.rows.size(), estimator);
   PreparedErrorModel prep = PrepareErrorModel(start, controller, data, options.error_model, weighting);
   if (FinishIfNothingFree(prep, identified, report)) return;
@@ -201,9 +195,6 @@ void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorO
   // The weight of orientation against position in the residuals (m per rad), where rows measured one.
   if (data.HasOrientation()) d["orientation_length_m_per_rad"] = options.error_model.orientation_length;
   if (run.parameters_at_bounds >= 0) ReportParametersAtBounds(estimator, run.parameters_at_bounds, report);
-  if (options.selection.cross_validate) {
-    CrossValidateErrorModel(estimator, options, budget, minimize, start, controller, data, report);
-  }
 }
 
 void ReportParametersAtBounds(const std::string& solver, int count, EstimationReport* report) {
