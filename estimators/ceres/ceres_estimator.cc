@@ -126,7 +126,7 @@ void CeresEstimator::DoEstimate(const Robot& start, const Robot& controller, con
                    {"times_s", seconds}};
     return run;
   };
-  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
+  EstimateOrSelectErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

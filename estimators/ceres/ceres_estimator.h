@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "estimators/error_model/error_model_estimation.h"
+#include "estimators/selection/estimate_or_select.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
-// The shared keys (error_model and weighting: error_model_estimation.h), then these.
+// The shared keys (error_model, weighting and selection: estimate_or_select.h), then these.
 struct CeresOptions : ErrorModelEstimatorOptions {
   // "auto": sparse_normal_cholesky when sessions make J block sparse (and SuiteSparse is available),
   // else dense_qr. Or force one of "dense_qr", "dense_normal_cholesky", "sparse_normal_cholesky".

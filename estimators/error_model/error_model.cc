@@ -130,45 +130,66 @@ PreparedErrorModel PrepareErrorModel(const Robot& start, const Robot& controller
   return prep;
 }
 
-bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
-                              Eigen::VectorXd* x) {
-  PreparedErrorModel next = RebuiltAt(solution, weighting, *prep);
-  if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) {
-    *x = solution;
-    return false;
-  }
-  std::string freed, held;
-  bool frees_joint_level = false, holds_geometry = false;
+IdentifiabilityChange CompareIdentifiability(const std::vector<ErrorModelParameter>& candidates,
+                                             const std::vector<std::string>& before,
+                                             const std::vector<std::string>& after) {
+  IdentifiabilityChange c;
   const auto group_of = [&](const std::string& name) {
-    for (const auto& c : prep->problem->candidates()) {
-      if (c.name == name) return c.group;
+    for (const auto& q : candidates) {
+      if (q.name == name) return q.group;
     }
     return ErrorModelParameter::Group::kBase;
   };
-  for (const auto& name : prep->identifiability.unidentifiable_names) {
-    const auto& now = next.identifiability.unidentifiable_names;
-    if (std::find(now.begin(), now.end(), name) != now.end()) continue;
-    freed += " " + name;
-    frees_joint_level = frees_joint_level || group_of(name) == ErrorModelParameter::Group::kJointError;
+  const auto in = [](const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  for (const auto& name : before) {
+    if (in(after, name)) continue;
+    c.freed += " " + name;
+    c.frees_joint_level = c.frees_joint_level || group_of(name) == ErrorModelParameter::Group::kJointError;
   }
-  for (const auto& name : next.identifiability.unidentifiable_names) {
-    const auto& before = prep->identifiability.unidentifiable_names;
-    if (std::find(before.begin(), before.end(), name) != before.end()) continue;
-    held += " " + name;
-    holds_geometry = holds_geometry || group_of(name) == ErrorModelParameter::Group::kJoint;
+  for (const auto& name : after) {
+    if (in(before, name)) continue;
+    c.held += " " + name;
+    c.holds_geometry = c.holds_geometry || group_of(name) == ErrorModelParameter::Group::kJoint;
   }
-  // Joint-level terms are corrections to a geometry the data determine: a solution where they would take
-  // over what the link geometry did (the joint errors rank first in the analysis, so the geometry is what
-  // it holds) has run off along the terms' near-null directions, not found new information.
-  if (frees_joint_level && holds_geometry) {
-    prep->warnings.push_back("identifiability re-analysed at the first solution would hold" + held +
-                             " to free" + freed + ": kept as analysed at the start");
-    *x = solution;
+  return c;
+}
+
+namespace {
+
+// The re-analysis `next` (at a solution of prep) when it may replace prep's: not when it hands the link
+// geometry to joint-level terms (IdentifiabilityChange::HandsGeometryToJointLevel); then prep stays and
+// its warnings say what was refused, `where` naming the re-analysis ("the first solution", "a restart").
+// With `note`, an adopted change is named in the warnings too (the restarts, up to eight, do not).
+bool AdoptReanalysis(const std::string& where, bool note, PreparedErrorModel next, PreparedErrorModel* prep) {
+  const IdentifiabilityChange change =
+      CompareIdentifiability(prep->problem->candidates(), prep->identifiability.unidentifiable_names,
+                             next.identifiability.unidentifiable_names);
+  if (change.HandsGeometryToJointLevel()) {
+    const std::string refused = "identifiability re-analysed at " + where + " would hold" + change.held +
+                                " to free" + change.freed + ": the analysis in force kept";
+    if (std::find(prep->warnings.begin(), prep->warnings.end(), refused) == prep->warnings.end())
+      prep->warnings.push_back(refused);
     return false;
   }
-  next.warnings.push_back("identifiability re-analysed at the first solution:" +
-                          (freed.empty() ? std::string() : " freed" + freed) + (held.empty() ? "" : ", held" + held));
+  if (note && (!change.freed.empty() || !change.held.empty())) {
+    next.warnings.push_back("identifiability re-analysed at " + where + ":" +
+                            (change.freed.empty() ? std::string() : " freed" + change.freed) +
+                            (change.held.empty() ? "" : ", held" + change.held));
+  }
   *prep = std::move(next);
+  return true;
+}
+
+}  // namespace
+
+bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeighting& weighting, PreparedErrorModel* prep,
+                              Eigen::VectorXd* x) {
+  PreparedErrorModel next = RebuiltAt(solution, weighting, *prep);
+  *x = solution;
+  if (next.identifiability.unidentifiable_names == prep->identifiability.unidentifiable_names) return false;
+  if (!AdoptReanalysis("the first solution", true, std::move(next), prep)) return false;
   *x = prep->problem->InitialX();
   return true;
 }
@@ -178,6 +199,17 @@ void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, d
   prep->problem->set_prior_noise(prior_noise);
   *prep = RebuiltAt(solution, weighting, *prep);
   *x = prep->problem->InitialX();
+}
+
+void RestartWithPriorNoise(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
+                           PreparedErrorModel* prep, Eigen::VectorXd* x) {
+  prep->problem->set_prior_noise(prior_noise);
+  *x = solution;
+  if (AdoptReanalysis("a restart", false, RebuiltAt(solution, weighting, *prep), prep)) {
+    *x = prep->problem->InitialX();
+  } else {
+    prep->evaluated.reset();  // evaluated with the priors of the previous noise
+  }
 }
 
 double DataSigma(const NormalEquations& ne, int p) {

@@ -85,6 +85,28 @@ bool ReanalyzeIdentifiability(const Eigen::VectorXd& solution, const RowWeightin
 // holds and prior means kept) with the priors weighed by `prior_noise` (m); *x = its InitialX().
 void RestartAt(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
                PreparedErrorModel* prep, Eigen::VectorXd* x);
+// The same for a restart that changes only the prior noise, under ReanalyzeIdentifiability's rule: a
+// re-analysis that would hand the link geometry to joint-level terms is refused, prep keeps its analysis
+// (with the new noise) and *x = solution.
+void RestartWithPriorNoise(const Eigen::VectorXd& solution, const RowWeighting& weighting, double prior_noise,
+                           PreparedErrorModel* prep, Eigen::VectorXd* x);
+
+// What a re-analysis of identifiability at a solution changes against the analysis in force (the
+// unidentifiable names before and after; `candidates` give each name's group): the names it frees and
+// holds (" name" each).
+struct IdentifiabilityChange {
+  std::string freed, held;
+  bool frees_joint_level = false;  // frees a joint-level (joint error) coefficient
+  bool holds_geometry = false;     // holds a link (joint) parameter
+  // Joint-level terms are corrections to a geometry the data determine: a solution where they would take
+  // over what the link geometry did (the joint errors rank first in the analysis, so the geometry is what
+  // it holds) has run off along the terms' near-null directions, not found new information. Such a change
+  // is refused, at the first solution and at every prior-noise restart.
+  bool HandsGeometryToJointLevel() const { return frees_joint_level && holds_geometry; }
+};
+IdentifiabilityChange CompareIdentifiability(const std::vector<ErrorModelParameter>& candidates,
+                                             const std::vector<std::string>& before,
+                                             const std::vector<std::string>& after);
 
 // How the free parameters restart when weak ones are held: where the fit left them, or moved with the held
 // ones along the cost's valley (to where the quadratic model at the solution is least with the held ones

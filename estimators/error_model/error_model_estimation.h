@@ -2,13 +2,13 @@
 // What the four error-model estimators (least_squares, ceres, nlopt, ipopt) share beyond the problem:
 // one set of option keys and one estimation sequence, so that they differ only in how they minimise.
 //
-// Options (ErrorModelEstimatorOptions, read once for all four): the error model's keys (fixed, identify_*,
-// initialize_bases, orientation_length, identifiability_tolerance and the bound_* keys, used by the
-// bounded solvers) and the row weighting (loss, loss_scale, weights): every estimator minimises
-// sum_i w_i rho(|r_i|^2) (normal_equations.h).
+// Options (ErrorModelFitOptions): the error model's keys (fixed, identify_*, initialize_bases,
+// orientation_length, identifiability_tolerance, prior and the bound_* keys, used by the bounded solvers)
+// and the row weighting (loss, loss_scale, weights): every estimator minimises sum_i w_i rho(|r_i|^2)
+// (normal_equations.h). The estimators call this fit through the selection layer above it
+// (estimators/selection/estimate_or_select.h), whose options add the selection's keys to these.
 //
-// Sequence (EstimateErrorModel; with `select: true`, SelectErrorModel runs it per candidate and fold,
-// estimators/selection/select_error_model.h):
+// Sequence (EstimateErrorModel; the selection runs it per candidate and fold):
 //   1. PrepareErrorModel: place bases, tool and markers in closed form, hold what the data cannot
 //      determine (error_model.h); nothing free: converged after zero iterations.
 //   2. the backend's Minimizer from problem->InitialX() with the whole iteration budget;
@@ -19,8 +19,12 @@
 //      are, and moved along the cost's valley), the one with the lower training data cost kept; a run
 //      that ended at the iteration limit in a flat valley (InFlatValley, error_model.h) gets the same
 //      analysis, then a budget of its own;
-//   4. status, message and iterations (summed) from the runs; FinishErrorModel; details initial_cost_m2
+//   3c. converged, with priors and no given prior noise: the priors weighed by the fit's own noise,
+//      restarting (RestartWithPriorNoise, under the re-analysis's rule) until the noise settles;
+//   4. never worse: a sequence whose data cost ended above its start returns its best iterate, `failed`;
+//   5. status, message and iterations (summed) from the runs; FinishErrorModel; details initial_cost_m2
 //      and loss; bounded solvers: parameters_at_bounds and a warning when any (ReportParametersAtBounds).
+// Each policy is one step of the estimation in error_model_estimation.cc.
 // Each backend maps its own return codes to a MinimizerRun (converged, iteration limit, failed).
 #include <functional>
 #include <memory>
@@ -28,18 +32,16 @@
 
 #include "estimators/error_model/error_model.h"
 #include "estimators/error_model/row_weighting_options.h"
-#include "estimators/selection/model_selection.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
-struct ErrorModelEstimatorOptions {
-  ErrorModelOptions error_model;    // error_model_problem.h
-  RowWeightingOptions weighting;    // robust loss and per-row weights (keys loss, loss_scale, weights)
-  ModelSelectionOptions selection;  // keys select, select_folds, cross_validate (selection/model_selection.h)
+struct ErrorModelFitOptions {
+  ErrorModelOptions error_model;  // error_model_problem.h
+  RowWeightingOptions weighting;  // robust loss and per-row weights (keys loss, loss_scale, weights)
 
-  // The keys of the three tables above; each estimator's table includes this one before its own keys.
-  static const OptionTable<ErrorModelEstimatorOptions>& Table();
+  // The keys of the two tables above.
+  static const OptionTable<ErrorModelFitOptions>& Table();
   bool IsValid(std::string* why) const;
 };
 
@@ -61,7 +63,7 @@ using ErrorModelMinimizer = std::function<MinimizerRun(const PreparedErrorModel&
 
 // Steps 1-4 above. `estimator` names the estimator in messages. Throws std::invalid_argument for bad
 // input (PrepareErrorModel's conditions, weights not one per row).
-void EstimateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
+void EstimateErrorModel(const std::string& estimator, const ErrorModelFitOptions& options, int budget,
                         const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                         const Dataset& data, Robot* identified, EstimationReport* report);
 

@@ -123,7 +123,7 @@ void IpoptEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     if (!bounds) bounds = BoundsByName(*prep.problem);
     return Minimize(prep, weighting, *bounds, options_, budget, x, &passes);
   };
-  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
+  EstimateOrSelectErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

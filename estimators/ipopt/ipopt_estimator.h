@@ -18,12 +18,12 @@
 // run two `ipopt` estimations in parallel threads.
 #include <string>
 
-#include "estimators/error_model/error_model_estimation.h"
+#include "estimators/selection/estimate_or_select.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
-// The shared keys (error_model, bounds included, and weighting: error_model_estimation.h), then these.
+// The shared keys (error_model, bounds included, weighting and selection: estimate_or_select.h), then these.
 struct IpoptOptions : ErrorModelEstimatorOptions {
   std::string hessian = "gauss_newton";  // or "limited_memory" (Ipopt's hessian_approximation)
   int max_iterations = 200;              // Ipopt's max_iter

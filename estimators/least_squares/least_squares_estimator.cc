@@ -144,7 +144,7 @@ void LeastSquaresEstimator::DoEstimate(const Robot& start, const Robot& controll
     if (lm.fresh) run.normal_equations = std::make_shared<const NormalEquations>(std::move(ne));
     return run;
   };
-  EstimateErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
+  EstimateOrSelectErrorModel(name(), options_, options_.max_iterations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "estimators/error_model/error_model_estimation.h"
+#include "estimators/selection/estimate_or_select.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
-// The shared keys (error_model and weighting: error_model_estimation.h), then these.
+// The shared keys (error_model, weighting and selection: estimate_or_select.h), then these.
 struct LeastSquaresOptions : ErrorModelEstimatorOptions {
   int max_iterations = 50;  // passes over the data that propose a step
   // Stop when an accepted step changes no parameter by more than parameter_tolerance times its

@@ -154,7 +154,7 @@ void NloptEstimator::DoEstimate(const Robot& start, const Robot& controller, con
     run.details["evaluations"] = evaluations;
     return run;
   };
-  EstimateErrorModel(name(), options_, options_.max_evaluations, minimize, start, controller, data, identified, report);
+  EstimateOrSelectErrorModel(name(), options_, options_.max_evaluations, minimize, start, controller, data, identified, report);
 }
 
 }  // namespace kincal

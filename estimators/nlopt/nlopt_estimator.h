@@ -20,12 +20,12 @@
 // crawl along the ill-conditioned directions of a calibration Jacobian.
 #include <string>
 
-#include "estimators/error_model/error_model_estimation.h"
+#include "estimators/selection/estimate_or_select.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
-// The shared keys (error_model, bounds included, and weighting: error_model_estimation.h), then these.
+// The shared keys (error_model, bounds included, weighting and selection: estimate_or_select.h), then these.
 struct NloptOptions : ErrorModelEstimatorOptions {
   // An NLopt local algorithm that honours bounds: LD_SLSQP, LD_LBFGS, LD_MMA, LD_CCSAQ, LD_VAR1, LD_VAR2,
   // LD_TNEWTON, LD_TNEWTON_PRECOND_RESTART (gradient-based, exact gradients), LN_BOBYQA, LN_COBYLA,

@@ -285,8 +285,6 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
                       const Dataset& data, Robot* identified, EstimationReport* report) {
   const int K = options.selection.folds;
   ErrorModelEstimatorOptions fit_options = options;
-  fit_options.selection.select = false;
-  fit_options.selection.cross_validate = false;
   // Maximum a posteriori with the default priors unless the options say `prior` (model_selection.h).
   if (!fit_options.error_model.prior.given) fit_options.error_model.prior.enabled = true;
   const std::vector<SelectionCandidate> candidates = NestedCandidates(start);
@@ -307,14 +305,11 @@ void SelectErrorModel(const std::string& estimator, const ErrorModelEstimatorOpt
 void CrossValidateErrorModel(const std::string& estimator, const ErrorModelEstimatorOptions& options, int budget,
                              const ErrorModelMinimizer& minimize, const Robot& start, const Robot& controller,
                              const Dataset& data, EstimationReport* report) {
-  ErrorModelEstimatorOptions fit_options = options;
-  fit_options.selection.select = false;
-  fit_options.selection.cross_validate = false;
   SelectionCandidate whole;
   whole.name = "fitted model";
   for (size_t t = 0; t < start.joint_errors.terms.size(); ++t) whole.terms.push_back(static_cast<int>(t));
   std::vector<CandidateScore> scores;
-  CrossValidate(estimator, fit_options, budget, minimize, start, start, controller, data, {whole}, false,
+  CrossValidate(estimator, options, budget, minimize, start, start, controller, data, {whole}, false,
                 [](std::vector<CandidateScore>*) { return 0; }, &scores);
   nlohmann::json cv = SelectionToJson(scores, options.selection.folds);
   cv["rule"] = "the fitted model alone (cross_validate: true)";

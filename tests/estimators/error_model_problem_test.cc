@@ -360,6 +360,32 @@ TEST(Identifiability, ParallelAxesHoldOneOfTheirOffsets) {
   EXPECT_EQ(prep.identifiability.unidentifiable_names, expected);
 }
 
+// The rule both re-analyses (the first solution, the prior-noise restarts) share, on a constructed analysis:
+// the pattern of ur10_ipa2021 series A with priors (gravity coefficients freed, link geometry held) is refused;
+// a change that only holds geometry, or frees a joint-level term against a base parameter, is not.
+TEST(Identifiability, AReanalysisMayNotHandTheLinkGeometryToJointLevelTerms) {
+  const auto parameter = [](const std::string& name, ErrorModelParameter::Group group) {
+    ErrorModelParameter q;
+    q.name = name;
+    q.group = group;
+    return q;
+  };
+  using G = ErrorModelParameter::Group;
+  const std::vector<ErrorModelParameter> candidates = {parameter("a_2", G::kJoint), parameter("theta_3", G::kJoint),
+                                                       parameter("gravity_2_link4", G::kJointError),
+                                                       parameter("base_x", G::kBase)};
+  const IdentifiabilityChange handed =
+      CompareIdentifiability(candidates, {"gravity_2_link4", "base_x"}, {"base_x", "a_2", "theta_3"});
+  EXPECT_EQ(handed.freed, " gravity_2_link4");
+  EXPECT_EQ(handed.held, " a_2 theta_3");
+  EXPECT_TRUE(handed.HandsGeometryToJointLevel());
+  EXPECT_FALSE(CompareIdentifiability(candidates, {}, {"a_2"}).HandsGeometryToJointLevel());
+  EXPECT_FALSE(CompareIdentifiability(candidates, {"gravity_2_link4"}, {"base_x"}).HandsGeometryToJointLevel());
+  EXPECT_FALSE(CompareIdentifiability(candidates, {"a_2"}, {"gravity_2_link4"}).HandsGeometryToJointLevel());
+  const IdentifiabilityChange none = CompareIdentifiability(candidates, {"a_2"}, {"a_2"});
+  EXPECT_TRUE(none.freed.empty() && none.held.empty());
+}
+
 TEST(Identifiability, ObservabilityIndicesMatchADirectSvd) {
   const Robot nominal = testing::SeedNominal();
   const Dataset data = testing::RandomPoses(nominal, testing::SeedTruth(), 25);

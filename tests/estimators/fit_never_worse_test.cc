@@ -28,7 +28,7 @@ TEST(FitNeverWorse, AMinimizerThatEndsAboveTheStartGivesBackTheBestIterate) {
   };
   Robot identified;
   EstimationReport report;
-  EstimateErrorModel("diverging", ErrorModelEstimatorOptions(), 10, diverging, c.nominal, c.nominal, c.data,
+  EstimateErrorModel("diverging", ErrorModelFitOptions(), 10, diverging, c.nominal, c.nominal, c.data,
                      &identified, &report);
   EXPECT_NE(report.status, EstimationStatus::kConverged) << report.message;
   EXPECT_NE(report.message.find("ended above its start"), std::string::npos) << report.message;
