@@ -394,18 +394,6 @@ std::function<double(const Robot&)> HeldOutRms(const Robot& controller, const Da
   };
 }
 
-// Poses (rows with the same joint readings in a row) alternately to `even` and `odd`.
-void SplitPosesEvenOdd(const Dataset& all, Dataset* even, Dataset* odd) {
-  std::vector<int> e, o;
-  int pose = -1;
-  for (size_t i = 0; i < all.rows.size(); ++i) {
-    if (i == 0 || !all.rows[i].q.isApprox(all.rows[i - 1].q, 0.0)) ++pose;
-    (pose % 2 == 0 ? e : o).push_back(static_cast<int>(i));
-  }
-  *even = all.SelectRows(e);
-  *odd = all.SelectRows(o);
-}
-
 class Ur10Audit : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Ur10Audit, SelectionAgainstEveryCandidate) {
