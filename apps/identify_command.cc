@@ -94,10 +94,16 @@ bool FitGeometryOnly(const std::vector<std::string>& methods, std::vector<YAML::
 nlohmann::json Validate(const Robot& nominal, const Robot& identified, const Dataset& train, const Dataset& heldout,
                         const EstimationReport& last, const Robot* geometry) {
   nlohmann::json json;
-  const PredictionErrors unregistered = EvaluatePredictions(nominal, nominal, heldout);
   // "nominal" is the nominal geometry registered on the training rows (base, sessions, tool and
   // markers fitted, as the studies' "before"): the measurement frame alone would make it metres off.
   const Robot registered = RegisteredNominal(nominal, train);
+  // The unregistered nominal scores distance and contact rows against the fixtures the robot file gives,
+  // and those it does not against the registered nominal's (fitted with the nominal geometry).
+  Robot unregistered_robot = nominal;
+  for (const Fixture& f : registered.fixtures.items) {
+    if (!nominal.fixtures.Find(f.type, f.name)) unregistered_robot.fixtures.items.push_back(f);
+  }
+  const PredictionErrors unregistered = EvaluatePredictions(nominal, unregistered_robot, heldout);
   const PredictionErrors before = EvaluatePredictions(nominal, registered, heldout);
   const PredictionErrors after = EvaluatePredictions(nominal, identified, heldout);
   const double mm = 1e3;

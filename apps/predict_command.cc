@@ -116,7 +116,8 @@ void AddPredictCommand(CLI::App& app) {
     double sum2 = 0.0;
     WriteFileAtomically(a->out, [&](std::ostream& out) {
       out << "# kincal predict: " << a->robot << " on " << a->data
-          << "; d = predicted - measured (points); error = the row's residual in its kind\n";
+          << "; d = predicted - measured (points); error = the row's residual in its kind (signed for "
+          << "distances and plane contacts)\n";
       out << "x_mm,y_mm,z_mm";
       if (marker) out << ",marker";
       if (split) out << ",split";
@@ -127,9 +128,12 @@ void AddPredictCommand(CLI::App& app) {
       for (size_t i = 0; i < data.rows.size(); ++i) {
         const Measurement& m = data.rows[i];
         const Eigen::Vector3d& p = predicted[i];
-        // d on the axes a point row measures; error: the norm of the row's residual in its own kind.
+        // d on the axes a point row measures; error: the row's residual in its own kind, signed where it
+        // is one number of a distance or a contact (|p - pivot| - distance, n . p - offset), else its norm.
         const Eigen::Vector3d d = p - m.p;
-        const double error = RowResidual(robot, data, i, p).norm();
+        const Eigen::VectorXd r = RowResidual(robot, data, i, p);
+        const bool signed_error = m.kind == MeasurementKind::kDistance || m.kind == MeasurementKind::kPlane;
+        const double error = signed_error ? r[0] : r.norm();
         sum2 += error * error;
         const auto axis = [&](int k) {
           return m.kind == MeasurementKind::kPoint && m.axes[k] ? FormatInUnit(d[k], mm) : std::string();

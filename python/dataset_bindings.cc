@@ -1,5 +1,6 @@
 // kincal.Dataset: measurements, one row each, SI units (the file's units are kept only to write it back).
-// To and from numpy column by column: q (N x n, rad), p (N x 3, m) and the optional columns.
+// To and from numpy column by column: q (N x n, rad), p (N x 3, m; NaN where not measured) and the optional
+// columns, with kind, fixture and distance (m) when rows measure other than full points.
 #include <cmath>
 
 #include <pybind11/eigen.h>
@@ -27,12 +28,26 @@ py::dict ToNumpy(const Dataset& d) {
   const long n = static_cast<long>(d.rows.size());
   Eigen::MatrixXd q(n, d.dof), p(n, 3);
   for (long i = 0; i < n; ++i) {
-    q.row(i) = d.rows[i].q.transpose();
-    p.row(i) = d.rows[i].p.transpose();
+    const Measurement& m = d.rows[i];
+    q.row(i) = m.q.transpose();
+    for (int a = 0; a < 3; ++a) p(i, a) = m.kind == MeasurementKind::kPoint && m.axes[a] ? m.p[a] : NAN;
   }
   py::dict out;
   out["q"] = q;
   out["p"] = p;
+  if (!d.AllFullPoints()) {  // other instruments: each row's kind, the fixture it names, its distance
+    py::list kinds, fixtures;
+    Eigen::VectorXd distance(n);
+    for (long i = 0; i < n; ++i) {
+      const Measurement& m = d.rows[i];
+      kinds.append(MeasurementKindName(m.kind));
+      fixtures.append(m.fixture);
+      distance[i] = m.kind == MeasurementKind::kDistance ? m.distance : NAN;
+    }
+    out["kind"] = kinds;
+    out["fixture"] = fixtures;
+    out["distance"] = distance;
+  }
   if (d.HasOrientation()) {
     Eigen::MatrixXd o(n, 4);
     for (long i = 0; i < n; ++i) {
@@ -81,9 +96,36 @@ std::vector<T> Column(const py::object& values, long rows, const char* what) {
   return out;
 }
 
+MeasurementKind KindFrom(const std::string& text) {
+  for (MeasurementKind k :
+       {MeasurementKind::kPoint, MeasurementKind::kDistance, MeasurementKind::kPlane, MeasurementKind::kFixedPoint}) {
+    if (MeasurementKindName(k) == text) return k;
+  }
+  throw std::invalid_argument("kind: expected 'point', 'distance', 'plane' or 'fixed_point' (got '" + text + "')");
+}
+
+// The rows' kinds, fixtures and distances (to_numpy's columns); a point's NaN components are not measured.
+void SetKinds(const py::object& kind, const py::object& fixture, const py::object& distance, Dataset* d) {
+  const long n = static_cast<long>(d->rows.size());
+  const auto kinds = Column<std::string>(kind, n, "kind");
+  const auto fixtures = Column<std::string>(fixture, n, "fixture");
+  const auto distances = Column<double>(distance, n, "distance");
+  for (long i = 0; i < n; ++i) {
+    Measurement& m = d->rows[i];
+    if (!kinds.empty()) m.kind = KindFrom(kinds[i]);
+    if (!fixtures.empty()) m.fixture = fixtures[i];
+    if (!distances.empty() && m.kind == MeasurementKind::kDistance) m.distance = distances[i];
+    for (int a = 0; a < 3; ++a) {
+      m.axes[a] = m.kind == MeasurementKind::kPoint && std::isfinite(m.p[a]);
+      if (!m.axes[a]) m.p[a] = 0.0;
+    }
+  }
+}
+
 Dataset FromNumpy(const Eigen::MatrixXd& q, const Eigen::MatrixXd& p, const py::object& orientation,
                   const py::object& encoders, const py::object& sweep, const py::object& marker,
                   const py::object& session, const py::object& split, const py::object& from_q,
+                  const py::object& kind, const py::object& fixture, const py::object& distance,
                   const std::string& length_unit, const std::string& angle_unit) {
   const long n = q.rows();
   CheckSize("p (rows)", n, p.rows());
@@ -124,6 +166,7 @@ Dataset FromNumpy(const Eigen::MatrixXd& q, const Eigen::MatrixXd& p, const py::
     for (long i = 0; i < n; ++i)
       if (f.row(i).allFinite()) d.rows[i].from_q = Eigen::VectorXd(f.row(i).transpose());
   }
+  SetKinds(kind, fixture, distance, &d);
   d.Validate(d.dof);
   return d;
 }
@@ -138,13 +181,42 @@ angles q (rad) and the measured marker position p (m) in the measurement frame, 
       .def(py::init(&FromNumpy), py::arg("q"), py::arg("p"), py::kw_only(), py::arg("orientation") = py::none(),
            py::arg("encoders") = py::none(), py::arg("sweep") = py::none(), py::arg("marker") = py::none(),
            py::arg("session") = py::none(), py::arg("split") = py::none(), py::arg("from_q") = py::none(),
+           py::arg("kind") = py::none(), py::arg("fixture") = py::none(), py::arg("distance") = py::none(),
            py::arg("length_unit") = "mm", py::arg("angle_unit") = "deg",
-           "A dataset from arrays (SI); the units are those save() writes the file in.")
+           "A dataset from arrays (SI); the units are those save() writes the file in. Other instruments "
+           "(docs/instruments.md): kind per row ('point', 'distance', 'plane', 'fixed_point'), the fixture "
+           "it names (pivot, plane or point), distance (m); p's NaN components are not measured.")
       .def("to_numpy", &ToNumpy, "Every column the dataset has, as a dict of arrays (SI units).")
       .def_property_readonly(
           "q", [](const Dataset& d) -> py::object { return ToNumpy(d)["q"]; }, "N x n joint angles, rad.")
       .def_property_readonly(
-          "p", [](const Dataset& d) -> py::object { return ToNumpy(d)["p"]; }, "N x 3 marker positions, m.")
+          "p", [](const Dataset& d) -> py::object { return ToNumpy(d)["p"]; },
+          "N x 3 marker positions, m; NaN where a row does not measure the component (docs/instruments.md).")
+      .def_property_readonly(
+          "kind",
+          [](const Dataset& d) {
+            std::vector<std::string> out;
+            for (const auto& m : d.rows) out.push_back(MeasurementKindName(m.kind));
+            return out;
+          },
+          "Each row's kind: 'point' (full or partial), 'distance', 'plane' or 'fixed_point'.")
+      .def_property_readonly(
+          "fixture",
+          [](const Dataset& d) {
+            std::vector<std::string> out;
+            for (const auto& m : d.rows) out.push_back(m.fixture);
+            return out;
+          },
+          "The pivot, plane or point each row names ('' for a point).")
+      .def_property_readonly(
+          "distance",
+          [](const Dataset& d) {
+            Eigen::VectorXd out(d.rows.size());
+            for (size_t i = 0; i < d.rows.size(); ++i)
+              out[i] = d.rows[i].kind == MeasurementKind::kDistance ? d.rows[i].distance : NAN;
+            return out;
+          },
+          "Each distance row's distance to its pivot, m (NaN on other rows).")
       .def_readonly("dof", &Dataset::dof)
       .def_readwrite("comments", &Dataset::comments)
       .def_readonly("source", &Dataset::source)

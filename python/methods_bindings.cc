@@ -64,8 +64,11 @@ const Robot& ControllerOr(const Robot* controller, const Robot& robot) {
 Dataset SimulateFrom(const Robot& nominal, const Robot& truth, const std::string& protocol, int poses, int stops,
                      double step, std::optional<Eigen::VectorXd> start, std::vector<int> order, double noise,
                      double noise_range, bool orientation, double orientation_noise, std::vector<std::string> markers,
-                     uint64_t seed) {
+                     uint64_t seed, const std::string& instrument, const std::string& axes, int fixtures) {
   SimulatorOptions o;
+  o.instrument.instrument = instrument;
+  o.instrument.axes = axes;
+  o.instrument.fixtures = fixtures;
   o.protocol = protocol;
   o.poses = poses;
   o.stops = stops;
@@ -260,9 +263,12 @@ void BindMethods(py::module_& m) {
         py::arg("poses") = 100, py::arg("stops") = 20, py::arg("step") = 2.0 * M_PI / 180.0,
         py::arg("start") = py::none(), py::arg("order") = std::vector<int>(), py::arg("noise") = 0.0,
         py::arg("noise_range") = 0.0, py::arg("orientation") = false, py::arg("orientation_noise") = 0.0,
-        py::arg("markers") = std::vector<std::string>(), py::arg("seed") = 1,
+        py::arg("markers") = std::vector<std::string>(), py::arg("seed") = 1, py::arg("instrument") = "point",
+        py::arg("axes") = "z", py::arg("fixtures") = 3,
         R"(A dataset the instrument would measure on `truth` commanded by `nominal` (robot/simulator.h).
-SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per m of distance. Same seed, same data.)");
+SI: step and orientation_noise in rad, noise in m per axis, noise_range in m per m of distance. Same seed, same data.
+instrument: 'point', 'partial' (the `axes` of "xyz"), 'distance', 'plane' or 'socket', against the truth's
+fixtures or `fixtures` random ones (robot/simulator_instruments.h, docs/instruments.md).)");
 
   m.def("identify", &Identify, py::arg("nominal"), py::arg("data"), py::arg("method"), py::arg("options") = py::none(),
         R"(Identifies a robot from `data` (every row; use data.subset('train') for a split file) starting from

@@ -313,6 +313,51 @@ void SensitivityTable(std::ostream& o, const ReportData& data, const std::string
   o << "\n";
 }
 
+// Instruments side by side: the simulated datasets that sweep a knob, grouped by the instrument they
+// simulate (study.json), one table per instrument and random validation set with a row per value of every
+// knob its datasets sweep (the number of measurements in one, the noise in another) and a column per
+// method. Written when the study compares instruments or sweeps two knobs of one.
+void InstrumentTables(std::ostream& o, const ReportData& data) {
+  std::vector<std::string> instruments;
+  std::map<std::string, std::vector<int>> variants;  // instrument -> its swept datasets' variants
+  std::set<std::string> datasets;
+  for (const auto& d : data.manifest().at("datasets")) {
+    if (!d.contains("instrument") || !d.contains("vary")) continue;
+    const std::string instrument = d.at("instrument").get<std::string>();
+    if (!variants.count(instrument)) instruments.push_back(instrument);
+    datasets.insert(d.at("name").get<std::string>());
+    for (size_t v = 0; v < data.variants().size(); ++v) {
+      if (data.variants()[v].dataset == d.at("name").get<std::string>()) variants[instrument].push_back(v);
+    }
+  }
+  if (instruments.size() < 2 && datasets.size() < 2) return;
+  o << "## Instruments side by side\n\n";
+  for (const auto& validation_spec : data.manifest().at("validation")) {
+    if (validation_spec.at("kind") != "random") continue;
+    const std::string validation = validation_spec.at("name").get<std::string>();
+    for (const std::string& instrument : instruments) {
+      const std::vector<int>& vs = variants[instrument];
+      const std::vector<MethodPair> pairs = MethodPairs(data, vs.front(), validation);
+      o << "### " << Cell(instrument) << ": " << Cell(validation) << "\n\nMean position error (mm) at the targets "
+        << "of " << Cell(validation) << " (mean ± std over trials) against each knob the " << Cell(instrument)
+        << " datasets sweep.\n\n";
+      std::vector<std::string> header = {"dataset", "knob", "value"};
+      for (const auto& p : pairs) header.push_back(p.label == "before" ? "**before**" : Cell(p.label));
+      std::vector<bool> right(header.size(), true);
+      right[0] = right[1] = false;
+      Header(o, header, right);
+      for (int v : vs) {
+        const ReportData::Variant& var = data.variants()[v];
+        std::vector<std::string> cells = {Cell(var.dataset), KnobLabel(var.knob), var.knob_text};
+        for (const auto& p : pairs)
+          cells.push_back(MeanSpread(data.Values(v, p.estimator, p.compensator, validation, "position_error_mean_mm")));
+        Row(o, cells);
+      }
+      o << "\n";
+    }
+  }
+}
+
 void Times(std::ostream& o, const ReportData& data) {
   const ResultTable& t = data.tables().timings;
   const int c_item = t.Column("item"), c_est = t.Column("estimator"), c_comp = t.Column("compensator");
@@ -468,6 +513,7 @@ void WriteReport(const std::string& dir) {
       Figure(o, PlotSensitivity(data, dataset, validation), "sensitivity, " + dataset + ", " + validation);
     }
   }
+  InstrumentTables(o, data);
   Times(o, data);
   o << "## Files\n\n"
        "- `results.csv`: one row per (work item, compensator, validation set): error distribution over the targets "

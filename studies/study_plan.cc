@@ -109,6 +109,7 @@ nlohmann::json StudyManifest(const Study& study, const std::vector<DatasetVarian
   for (const auto& d : study.datasets) {
     nlohmann::json dj = {{"name", d.name}, {"simulated", d.simulated}, {"summary", d.summary}};
     if (d.vary) dj["vary"] = {{"knob", d.vary->knob}, {"values", d.vary->texts}};
+    if (d.simulated) dj["instrument"] = d.simulator.instrument.instrument;
     if (d.iso9283) dj["iso9283"] = true;
     j["datasets"].push_back(dj);
   }

@@ -8,8 +8,11 @@
 // - priors (they hold every length near its start);
 // - fixtures given in the robot file (known or with a prior sd), with the base's translations the options
 //   hold: they set the scale unless one point c lies (within 1 mm) on every given plane, at every given pivot and
-//   socket and at every held base coordinate (three planes always meet in a point: a corner of given
-//   planes fixes no scale while the base is free, two given pivots do).
+//   socket and where a held base can be moved by the free base coordinates and the translations the arm
+//   takes over from the base (d_1 moves every prediction along joint 1's axis): three planes always meet
+//   in a point, so a corner of given planes fixes no scale while the base is free; two given pivots do;
+//   one given plane with the base held does only when its normal is square to the translations the arm
+//   takes over (a wall beside a standing arm, not a table under it).
 // When nothing does, the arm's longest link length is held at its start value, which carries the
 // start's scale error into the result. A length of the arm the options hold is not enough by itself: a
 // held tool_z frees d_6, and the two together scale again.

@@ -114,6 +114,51 @@ def test_dataset_columns_split_and_subsets():
     assert np.array_equal(read.q, q) and np.array_equal(read.p, p)
 
 
+def test_dataset_rows_of_every_instrument_expose_kind_fixture_and_value():
+    # One file with every kind (docs/instruments.md): a point, a partial point (z only), a distance to a
+    # pivot, a plane contact and a socket.
+    text = ("q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,distance_mm,pivot,plane,point\n"
+            "10,20,30,0,45,0,612.5,-20.25,431,,,,\n"
+            "15,25,30,0,45,0,,,300,,,,\n"
+            "20,20,35,0,40,0,,,,702.125,P1,,\n"
+            "25,20,35,0,40,0,,,,,,table,\n"
+            "30,20,35,0,40,0,,,,,,,socket\n")
+    data = kincal.parse_dataset(text)
+    assert data.kind == ["point", "point", "distance", "plane", "fixed_point"]
+    assert data.fixture == ["", "", "P1", "table", "socket"]
+    assert data.distance[2] == pytest.approx(0.702125, rel=1e-15)
+    assert np.isnan(data.distance[[0, 1, 3, 4]]).all()
+    p = data.p
+    assert p[0] == pytest.approx([0.6125, -0.02025, 0.431], rel=1e-15)
+    assert np.isnan(p[1, :2]).all() and p[1, 2] == pytest.approx(0.3, rel=1e-15)
+    assert np.isnan(p[2:]).all()  # a distance, a contact and a socket read no coordinate
+    columns = data.to_numpy()
+    assert columns["kind"] == data.kind and columns["fixture"] == data.fixture
+    assert np.array_equal(columns["distance"], data.distance, equal_nan=True)
+    # numpy -> Dataset -> file: the same text.
+    rebuilt = kincal.Dataset(columns["q"], columns["p"], kind=columns["kind"], fixture=columns["fixture"],
+                             distance=columns["distance"])
+    assert rebuilt.to_csv() == data.to_csv()
+    assert rebuilt.kind == data.kind and np.array_equal(rebuilt.p, p, equal_nan=True)
+    # A file of full points has no such columns.
+    assert "kind" not in kincal.parse_dataset(text.split("\n15,")[0] + "\n").to_numpy()
+    with pytest.raises(kincal.Error, match="kind"):
+        kincal.Dataset(columns["q"], columns["p"], kind=["point", "point", "ruler", "plane", "fixed_point"],
+                       fixture=columns["fixture"], distance=columns["distance"])
+
+
+def test_simulated_distances_and_contacts_read_back_with_their_pivots_and_planes(nominal, truth, tmp_path):
+    for instrument, kind, prefix in (("distance", "distance", "P"), ("plane", "plane", "plane")):
+        simulated = kincal.simulate(nominal, truth, protocol="random", poses=12, noise=0.0, seed=3,
+                                    instrument=instrument)
+        simulated.save(tmp_path / f"{instrument}.csv")
+        data = kincal.load_dataset(tmp_path / f"{instrument}.csv")
+        assert data.kind == [kind] * 12
+        assert all(name.startswith(prefix) for name in data.fixture) and len(set(data.fixture)) == 3
+        assert np.isnan(data.p).all()
+        assert np.isfinite(data.distance).all() == (kind == "distance")
+        assert np.array_equal(data.distance, simulated.distance, equal_nan=True)
+
 def test_methods_lists_every_registry():
     methods = kincal.methods()
     assert "mdh" in methods["models"]

@@ -368,6 +368,63 @@ TEST(MeasurementKinds, PlaneContactsWithGivenPlanesRecoverTheDistancesOfTheIrb12
   EXPECT_FALSE(Contains(HeldNames(PrepareErrorModel(given, nominal, planes, held_base)), "d_4"));
 }
 
+// One given plane with the base held reads one length: the distance from the base to the plane along its
+// normal. The arm takes over a held base's moves along joint 1's axis (d_1 translates everything along it),
+// so only a plane whose normal is square to that axis (a wall beside a standing arm) sets the scale; a
+// table under it or a tilted plane does not: the arm scaled about the point where joint 1's axis meets the
+// plane, d_1 taking up the difference, touches it as before, and without a hold shrinks to nothing. The
+// simulated IRB 120 (180 mm from the wall, its d_4 0.28 mm longer than the nominal's): the wall gives d_4
+// and a_3 to a few um; the others hold d_4 and keep the arm's size.
+TEST(MeasurementKinds, OneGivenPlaneWithTheBaseHeldSetsTheScaleOnlySquareToJointOnesAxis) {
+  const Robot nominal = testing::LoadExampleRobot("irb120_placed.yaml");
+  const Robot truth_arm = testing::LoadExampleRobot("irb120_as_measured.yaml");
+  const auto length = [](const Robot& r, const std::string& name) {
+    const auto names = r.model().ParameterNames();
+    return r.model().Parameters()[std::find(names.begin(), names.end(), name) - names.begin()];
+  };
+  struct Case {
+    const char* name;
+    Eigen::Vector3d normal;
+    double offset;  // m
+    bool sets_scale;
+  };
+  for (const Case& c : {Case{"wall", -Eigen::Vector3d::UnitX(), -1.16, true},
+                        Case{"table", Eigen::Vector3d::UnitZ(), -0.1, false},
+                        Case{"tilted", Eigen::Vector3d(0.6, 0.0, 0.8), 0.82, false}}) {
+    SCOPED_TRACE(c.name);
+    Fixture plane;
+    plane.type = Fixture::Type::kPlane;
+    plane.name = c.name;
+    plane.normal = c.normal;
+    plane.offset = c.offset;
+    plane.known = true;
+    Robot truth = truth_arm, start = nominal;
+    truth.fixtures.items = start.fixtures.items = {plane};
+    SimulatorOptions o;
+    o.protocol = "random";
+    o.poses = 80;
+    o.noise_sigma = 2e-6;
+    o.instrument.instrument = "plane";
+    o.seed = 5;
+    const Dataset data = Simulate(nominal, truth, o);
+    ASSERT_EQ(data.rows.size(), 80u);
+    ErrorModelOptions held_base;
+    held_base.fixed = {"base"};
+    held_base.initialize_bases = false;
+    EXPECT_EQ(Contains(HeldNames(PrepareErrorModel(start, nominal, data, held_base)), "d_4"), !c.sets_scale);
+    Robot identified;
+    const EstimationReport report =
+        Estimators()
+            .Create("least_squares", YAML::Load("{fixed: [base], initialize_bases: false}"))
+            ->Estimate(start, data, &identified);
+    EXPECT_GT(report.final_rms, 0.0);
+    EXPECT_LT(report.final_rms, 5e-6) << report.BriefReport();
+    for (const char* name : {"d_1", "a_3", "d_4"}) {
+      EXPECT_NEAR(length(identified, name), length(truth, name), c.sets_scale ? 2e-5 : 1e-3) << name;
+    }
+  }
+}
+
 TEST(MeasurementKinds, FixtureRowsOutsideSessionZeroAreRefused) {
   KindsCase c = RandomCase(40, 11);
   MakeDistances(&c);
