@@ -9,6 +9,7 @@
 #include "compensators/common/random_targets.h"
 #include "framework/error.h"
 #include "framework/math.h"
+#include "framework/median.h"
 #include "framework/random.h"
 
 namespace kincal {
@@ -144,11 +145,7 @@ void JointSpaceCompensator::FitOffset(Rng* rng) {
     if (PoseError(T, target.T_meas_tool).norm() > 1e-9) continue;
     for (int j = 0; j < n; ++j) corrections[j].push_back(q_id[j] - q[j]);
   }
-  for (int j = 0; j < n && !corrections[j].empty(); ++j) {
-    std::vector<double>& c = corrections[j];
-    std::nth_element(c.begin(), c.begin() + c.size() / 2, c.end());
-    offset_[j] = c[c.size() / 2];
-  }
+  for (int j = 0; j < n && !corrections[j].empty(); ++j) offset_[j] = Median(corrections[j]);
   info_.offset_samples = static_cast<int>(corrections[0].size());
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "estimators/error_model/covariance.h"
+#include "framework/median.h"
 
 namespace kincal {
 namespace {
@@ -41,14 +42,6 @@ std::vector<double> RowSd(const ErrorModelProblem& problem, const Eigen::VectorX
     out[i] = variance > 0.0 ? std::sqrt(variance) : (variance == 0.0 ? 0.0 : NAN);
   }
   return out;
-}
-
-// Of the finite values: NaN breaks the ordering nth_element relies on (and can send it past the end).
-double Median(std::vector<double> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double e) { return !std::isfinite(e); }), v.end());
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace
