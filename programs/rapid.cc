@@ -213,7 +213,10 @@ class RapidFormat final : public ProgramFormat {
     for (int k = 0; k < 4; ++k) target.numbers.push_back(node.items[1].items[k].number);
     for (int k = 0; k < 4; ++k) {
       NumberSpan s = node.items[2].items[k].number;
-      if (s.value != std::round(s.value)) ThrowAt(path, t, s.begin, "confdata fields are integers");
+      // Quadrant and configuration numbers: small integers (and an int must hold them).
+      if (s.value != std::round(s.value) || !(std::abs(s.value) <= 1e6)) {
+        ThrowAt(path, t, s.begin, "confdata fields are integers of at most a million");
+      }
       s.integer = true;
       target.numbers.push_back(s);
       target.configuration.push_back(static_cast<int>(s.value));

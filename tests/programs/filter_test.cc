@@ -3,6 +3,8 @@
 // tracker sees it. The filtered targets, given to the controller's inverse kinematics on the branch
 // their configuration fields name, put the identified arm on the original targets; everything but the
 // target numbers is unchanged; with identified = nominal no byte changes.
+#include <stdexcept>
+
 #include <gtest/gtest.h>
 
 #include "compensators/compensator.h"
@@ -114,6 +116,22 @@ INSTANTIATE_TEST_SUITE_P(Formats, FilterRoundTrip,
                          ::testing::Values(Case{"rapid", "irb120_mdh.yaml"}, Case{"krl", "kuka_kr6_r900.yaml"},
                                            Case{"urscript", "ur10_dh.yaml"}, Case{"csv", "irb120_mdh.yaml"}),
                          Name);
+
+// A confdata field is a quadrant number: one beyond what an int holds is refused at its column (its
+// conversion to int would overflow).
+TEST(RapidReader, AConfdataFieldBeyondAnIntIsRefusedAtItsColumn) {
+  const std::string text =
+      "MODULE M\n"
+      "  CONST robtarget p:=[[1,2,3],[1,0,0,0],[0,0,-1.6E+127,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];\n"
+      "ENDMODULE\n";
+  try {
+    MakeProgramFormat("rapid")->Read(text, "m.mod");
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("m.mod:2:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("confdata fields are integers"), std::string::npos) << e.what();
+  }
+}
 
 }  // namespace
 }  // namespace kincal
