@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 #include <yaml-cpp/yaml.h>
 
+#include "bench/smoke.h"
 #include "estimators/error_model/normal_equations.h"
 #include "estimators/estimator.h"
 #include "framework/random.h"
@@ -148,11 +149,11 @@ BENCHMARK_CAPTURE(BM_Estimator, ceres, std::string("ceres"))->Arg(1000)->Unit(be
 BENCHMARK_CAPTURE(BM_Estimator, nlopt, std::string("nlopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Estimator, ipopt, std::string("ipopt"))->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Estimator, least_squares, std::string("least_squares"))
-    ->Arg(1000000)
+    ->Arg(BenchSize(1000000, 20000))
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 BENCHMARK(BM_FixedJointErrorTerms)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NormalEquationsPass)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NormalEquationsPass)->Arg(1000)->Arg(BenchSize(100000, 10000))->Unit(benchmark::kMillisecond);
 
 }  // namespace kincal
 

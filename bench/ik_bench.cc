@@ -40,6 +40,7 @@
 #include <kdl/chainiksolverpos_lma.hpp>
 #include <kdl/utilities/utility.h>
 
+#include "bench/smoke.h"
 #include "framework/math.h"
 #include "robot/nominal_ik.h"
 #include "framework/random.h"
@@ -49,7 +50,7 @@
 namespace kincal {
 namespace {
 
-constexpr int kTargets = 1000;
+const int kTargets = BenchSize(1000, 100);
 constexpr int kMaxStarts = 100;
 
 struct Arm {

@@ -27,6 +27,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/smoke.h"
 #include "compensators/compensator.h"
 #include "framework/math.h"
 #include "robot/nominal_ik.h"
@@ -36,7 +37,7 @@
 namespace kincal {
 namespace {
 
-constexpr int kTargets = 2000;
+const int kTargets = BenchSize(2000, 200);
 
 double ChildCpuSeconds() {
   rusage usage{};
@@ -162,7 +163,7 @@ void Register() {
         const std::string name = std::string("CompensateCommand/") + (reachable ? "reachable/" : "nominal/") +
                                  (seeds ? "seeds/" : "seedless/") + stem;
         benchmark::RegisterBenchmark(name.c_str(), BM_CompensateCommand, arm, reachable, seeds, false)
-            ->Iterations(3)
+            ->Iterations(BenchSize(3, 1))
             ->UseRealTime()
             ->Unit(benchmark::kMillisecond);
       }
@@ -172,7 +173,7 @@ void Register() {
     const std::string name =
         std::string("CompensateCommand/reachable/") + (seeds ? "seeds/" : "seedless/") + "seed_nominal_far_base";
     benchmark::RegisterBenchmark(name.c_str(), BM_CompensateCommand, "seed_nominal.yaml", true, seeds, true)
-        ->Iterations(3)
+        ->Iterations(BenchSize(3, 1))
         ->UseRealTime()
         ->Unit(benchmark::kMillisecond);
   }
