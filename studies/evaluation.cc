@@ -220,18 +220,10 @@ ErrorSummary SummarizeErrors(std::vector<double> errors) {
   ErrorSummary s;
   s.count = static_cast<int>(errors.size());
   if (errors.empty()) return s;
-  std::sort(errors.begin(), errors.end());
-  double sum = 0.0, sum2 = 0.0;
-  for (double e : errors) {
-    sum += e;
-    sum2 += e * e;
-  }
-  s.mean = sum / s.count;
-  s.rms = std::sqrt(sum2 / s.count);
-  s.max = errors.back();
+  std::sort(errors.begin(), errors.end());  // the sums run in increasing order
+  static_cast<ErrorStats&>(s) = Summarize(errors);
   s.p05 = Quantile(errors, 0.05);
   s.p25 = Quantile(errors, 0.25);
-  s.p50 = Quantile(errors, 0.50);
   s.p75 = Quantile(errors, 0.75);
   s.p95 = Quantile(errors, 0.95);
   return s;

@@ -16,17 +16,19 @@
 #include <vector>
 
 #include "framework/dataset.h"
+#include "robot/prediction.h"
 #include "studies/parameter_rows.h"
 #include "studies/study.h"
 #include "studies/validation.h"
 
 namespace kincal {
 
-// Distribution of per-target errors (SI: m or rad). NaN everywhere when count == 0.
-struct ErrorSummary {
-  int count = 0;
-  double mean = NAN, rms = NAN, max = NAN;
-  double p05 = NAN, p25 = NAN, p50 = NAN, p75 = NAN, p95 = NAN;
+// Distribution of per-target errors (SI: m or rad): the prediction errors' statistics (robot/prediction.h;
+// the median is the 50 % quantile) and the quantiles the studies' tables print. NaN everywhere when
+// count == 0.
+struct ErrorSummary : ErrorStats {
+  ErrorSummary() { mean = rms = max = median = NAN; }
+  double p05 = NAN, p25 = NAN, p75 = NAN, p95 = NAN;
 };
 ErrorSummary SummarizeErrors(std::vector<double> errors);
 

@@ -49,7 +49,7 @@ std::vector<std::string> Concat(std::vector<std::string> a, const std::vector<st
 }
 
 void AddSummary(std::vector<std::string>* cells, const ErrorSummary& s, double scale) {
-  for (double v : {s.mean, s.rms, s.max, s.p05, s.p25, s.p50, s.p75, s.p95}) cells->push_back(Format(v * scale));
+  for (double v : {s.mean, s.rms, s.max, s.p05, s.p25, s.median, s.p75, s.p95}) cells->push_back(Format(v * scale));
 }
 
 std::vector<std::string> SummaryColumns(const std::string& prefix, const std::string& unit) {
