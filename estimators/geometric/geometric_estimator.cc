@@ -33,6 +33,17 @@ bool IsValidStddevMethod(const std::string& method, int bootstrap_samples, std::
   return true;
 }
 
+const OptionTable<geometric::UncertaintyOptions>& geometric::UncertaintyOptions::Table() {
+  using O = geometric::UncertaintyOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("stop uncertainty")
+          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
+          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
+          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
+          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+  return table;
+}
+
 const OptionTable<GeometricEstimator::Options>& GeometricEstimator::Options::Table() {
   using O = GeometricEstimator::Options;
   static const OptionTable<O> table =
@@ -43,10 +54,7 @@ const OptionTable<GeometricEstimator::Options>& GeometricEstimator::Options::Tab
           .Add("marker", &O::marker, "the marker whose sweeps to use; empty: every marker")
           .Add("joint_angles", &O::joint_angles, "auto, arcs or readings", OneOf({"auto", "arcs", "readings"}))
           .Add("markers_from", &O::markers_from, "auto, stops or arc", OneOf({"auto", "stops", "arc"}))
-          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
-          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
-          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
-          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+          .Include(geometric::UncertaintyOptions::Table());
   return table;
 }
 

@@ -21,13 +21,15 @@
 #include <string>
 
 #include "estimators/geometric/arc_fit.h"
+#include "estimators/geometric/uncertainty.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
 class GeometricEstimator final : public Estimator {
  public:
-  struct Options {
+  // Standard deviations: the keys stddev, bootstrap_samples, bootstrap_seed (uncertainty.h).
+  struct Options : geometric::UncertaintyOptions {
     // Circle fit: "geometric" (default), "taubin", "pratt" or "kasa" (circle_fit.h). The default is the
     // most accurate on the seed's 20 x 2 deg arcs (circle_fit_test.cc; bench/geometric_accuracy.cc).
     // min_spread (length, default 1 um), min_curvature_ratio (default 2) and max_iterations (default
@@ -62,11 +64,6 @@ class GeometricEstimator final : public Estimator {
     // stops: 0.51 and 0.48 mm). "auto" (default): "arcs" when the start robot has drives, else
     // "readings".
     std::string joint_angles = "auto";
-    // Standard deviations: "propagation" (default; validated against Monte Carlo spreads), "bootstrap"
-    // (over the stops) or "none" (uncertainty.h).
-    std::string stddev = "propagation";
-    int bootstrap_samples = 200;
-    int bootstrap_seed = 1;
 
     // Every key, its default, doc and requirement (framework/options.h).
     static const OptionTable<Options>& Table();

@@ -22,11 +22,22 @@
 
 #include "estimators/geometric/arc_fit.h"
 #include "estimators/geometric/sweeps.h"
+#include "framework/options.h"
 
 namespace kincal::geometric {
 
 // Maps one arc fit per joint (index joint - 1; unswept joints hold a default ArcFit) to the quantities.
 using ArcSolveFunction = std::function<Eigen::VectorXd(const std::vector<ArcFit>& fits)>;
+
+// The keys that choose the route, for every estimator that fits arcs (geometric, ratio_regression): their
+// Options derive from it.
+struct UncertaintyOptions {
+  // "propagation" (default; validated against Monte Carlo spreads), "bootstrap" (over the stops) or "none".
+  std::string stddev = "propagation";
+  int bootstrap_samples = 200;
+  int bootstrap_seed = 1;
+  static const OptionTable<UncertaintyOptions>& Table();
+};
 
 struct Uncertainty {
   std::string method;          // "propagation", "bootstrap" or "none"

@@ -19,10 +19,7 @@ const OptionTable<RatioRegressionEstimator::Options>& RatioRegressionEstimator::
       OptionTable<O>("ratio_regression")
           .Include(geometric::ArcFitOptions::Table(), &O::arc)
           .Add("marker", &O::marker, "the marker whose sweeps to use; empty: every marker")
-          .Add("stddev", &O::stddev, "propagation, bootstrap or none", OneOf({"propagation", "bootstrap", "none"}))
-          .Add("bootstrap_samples", &O::bootstrap_samples, "resamples of the bootstrap (at least 10)")
-          .Add("bootstrap_seed", &O::bootstrap_seed, "seed of the bootstrap's random stream")
-          .Rule({"bootstrap_samples", "stddev"}, [](const O& o) { return StddevRule(o.stddev, o.bootstrap_samples); });
+          .Include(geometric::UncertaintyOptions::Table());
   return table;
 }
 

@@ -18,20 +18,18 @@
 #include <string>
 
 #include "estimators/geometric/arc_fit.h"
+#include "estimators/geometric/uncertainty.h"
 #include "estimators/estimator.h"
 
 namespace kincal {
 
 class RatioRegressionEstimator final : public Estimator {
  public:
-  struct Options {
+  // Standard deviations: the keys stddev, bootstrap_samples, bootstrap_seed (geometric/uncertainty.h).
+  struct Options : geometric::UncertaintyOptions {
     // Arc fit (circle_fit, min_spread, min_curvature_ratio, max_iterations), as the geometric estimator.
     geometric::ArcFitOptions arc;
     std::string marker;  // as the geometric estimator
-    // Standard deviations: "propagation" (default), "bootstrap" or "none" (geometric/uncertainty.h).
-    std::string stddev = "propagation";
-    int bootstrap_samples = 200;
-    int bootstrap_seed = 1;
 
     // Every key, its default, doc and requirement (framework/options.h).
     static const OptionTable<Options>& Table();
