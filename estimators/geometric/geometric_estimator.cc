@@ -343,12 +343,7 @@ void GeometricEstimator::DoEstimate(const Robot& start, const Robot& controller,
       {"marker_at_calibration_m", Vec(solution.p_meas_marker)},
       {"axes", axes},
       {"pairs", pairs},
-      {"stddev",
-       {{"method", u.method},
-        {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
-        {"degrees_of_freedom", u.degrees_of_freedom},
-        {"replicates", u.replicates},
-        {"note", u.note}}}};
+      {"stddev", u.ToJson()}};
   AddMarkerAndSessionDetails(sweeps, solution, *identified, report);
   if (start.model().convention() != construction_start.model().convention()) {
     // Back to the start's convention, exactly (models/conversion.h); the parameters listed are the

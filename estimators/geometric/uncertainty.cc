@@ -8,6 +8,14 @@
 #include "framework/random.h"
 
 namespace kincal::geometric {
+
+nlohmann::json Uncertainty::ToJson() const {
+  return {{"method", method},
+          {"sigma_m", std::isfinite(sigma) ? nlohmann::json(sigma) : nlohmann::json(nullptr)},
+          {"degrees_of_freedom", degrees_of_freedom},
+          {"replicates", replicates},
+          {"note", note}};
+}
 namespace {
 
 // Coordinate step of the central differences, m: far below any arc (so the linearisation holds) and far

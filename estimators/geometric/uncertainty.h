@@ -19,6 +19,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "estimators/geometric/arc_fit.h"
 #include "estimators/geometric/sweeps.h"
@@ -46,6 +47,9 @@ struct Uncertainty {
   int degrees_of_freedom = 0;  // propagation: of sigma
   int replicates = 0;          // bootstrap: replicates that could be fitted
   std::string note;            // why stddev is NaN, if it is
+  // The report's "stddev" details: method, sigma_m (null when not finite), degrees_of_freedom, replicates,
+  // note.
+  nlohmann::json ToJson() const;
 };
 
 // `joints`: the swept joints to take into account (1-based); `fits`: their fits at the data; `is_angle`:

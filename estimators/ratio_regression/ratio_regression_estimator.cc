@@ -132,12 +132,7 @@ void RatioRegressionEstimator::DoEstimate(const Robot& start, const Robot& contr
       {"circle_fit", geometric::ToString(options_.arc.circle_fit)},
       {"motor_angle_from", data.HasEncoders() ? "encoder counts" : "commanded angles x controller ratio"},
       {"joints", per_joint},
-      {"stddev",
-       {{"method", u.method},
-        {"sigma_m", std::isfinite(u.sigma) ? nlohmann::json(u.sigma) : nlohmann::json(nullptr)},
-        {"degrees_of_freedom", u.degrees_of_freedom},
-        {"replicates", u.replicates},
-        {"note", u.note}}}};
+      {"stddev", u.ToJson()}};
   report->status = EstimationStatus::kConverged;
   report->message = "ratios of " + std::to_string(joints.size()) + " joints from their sweeps";
 }
